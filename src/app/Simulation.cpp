@@ -1,0 +1,141 @@
+#include "app/Simulation.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/ExecutionSpaces.hpp"
+#include "geometry/Lattice.hpp"
+#include "physics/Density.hpp"
+#include "physics/PredictorCorrector.hpp"
+
+namespace poresph {
+
+DerivedParameters derive_parameters(const SceneConfig& scene) {
+  DerivedParameters p{};
+  const int dim = scene.dimension;
+  p.smoothing_length = scene.smoothing_length_ratio * scene.particle_spacing;
+  double force_norm = 0.0, largest_side = 0.0;
+  for (int d = 0; d < dim; ++d) {
+    force_norm += scene.body_force[d] * scene.body_force[d];
+    largest_side = std::max(largest_side, scene.cell_size[d]);
+  }
+  force_norm = std::sqrt(force_norm);
+  const double nu = scene.kinematic_viscosity;
+  p.length_scale = scene.length_scale > 0 ? scene.length_scale : largest_side;
+  // Without a given velocity scale: the larger of the moving walls' speed and
+  // the peak of plane Poiseuille flow across the length scale, F L^2 / (8 nu),
+  // an upper bound for flow driven through pores narrower than L.
+  p.velocity_scale = scene.velocity_scale;
+  if (p.velocity_scale <= 0) {
+    const double wall = std::max(std::abs(scene.lower_wall_velocity), std::abs(scene.upper_wall_velocity));
+    const double poiseuille = nu > 0 ? force_norm * p.length_scale * p.length_scale / (8.0 * nu) : 0.0;
+    p.velocity_scale = std::max(wall, poiseuille);
+  }
+  if (scene.sound_speed > 0) {
+    p.sound_speed = scene.sound_speed;
+  } else {
+    const double c_sq = sound_speed_squared_from_scales(p.velocity_scale, p.length_scale, force_norm, nu,
+                                                        scene.density_variation);
+    if (!(c_sq > 0))
+      throw std::invalid_argument(
+          "cannot choose a speed of sound: the scene has no flow scale (no body force, no moving wall, no "
+          "Fluid/Velocity Scale); set Fluid/Velocity Scale or Fluid/Sound Speed");
+    p.sound_speed = std::sqrt(c_sq);
+  }
+  p.limits = time_step_limits(p.smoothing_length, p.sound_speed, nu, force_norm);
+  p.time_step = scene.time_step > 0 ? scene.time_step : p.limits.smallest();
+  if (p.time_step > p.limits.smallest() * (1 + 1e-12)) {
+    std::ostringstream msg;
+    msg << "Discretization/Time Step = " << scene.time_step << " exceeds the stability limit "
+        << p.limits.smallest() << " (acoustic " << p.limits.acoustic << ", viscous " << p.limits.viscous
+        << ", body force " << p.limits.force << ")";
+    throw std::invalid_argument(msg.str());
+  }
+  return p;
+}
+
+template <int Dim, class ExecSpace>
+Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace& space)
+    : scene_(scene),
+      space_(space),
+      derived_(derive_parameters(scene)),
+      particles_(scene.walls != WallType::None),
+      kernel_(derived_.smoothing_length) {
+  if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
+  const double support = kernel_.cutoff;
+  std::array<bool, Dim> periodic{};
+  Vec<Dim> lo = Vec<Dim>::zero(), hi;
+  for (int d = 0; d < Dim; ++d) {
+    periodic[d] = scene.periodic[d];
+    hi[d] = scene.cell_size[d];
+    search_lo_[d] = -support;
+    search_hi_[d] = hi[d] + support;
+    body_force_[d] = scene.body_force[d];
+  }
+  halo_ = PeriodicHalo<Dim, ExecSpace>(lo, hi, periodic, support);
+  fluid_ = FluidProperties{scene.kinematic_viscosity, std::sqrt(3.0) / 4.0 * scene.particle_spacing,
+                           scene.absolute_pressure_gradient
+                               ? 0.0
+                               : derived_.sound_speed * derived_.sound_speed * scene.density};
+
+  const auto seeds = fill_lattice<Dim>(scene);
+  load_seeds<Dim, ExecSpace>(seeds, scene.density, scene.particle_spacing, particles_);
+  for (const auto& s : seeds) fluid_count_ += s.kind == kFluid;
+  compute_rates();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
+  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed);
+  halo_.build(space_, particles_);
+  cells_.build(space_, particles_.x, particles_.total(), search_lo_, search_hi_, kernel_.cutoff);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::compute_rates() {
+  refresh_neighbourhood();
+  compute_pair_rates(space_, particles_, cells_, kernel_, fluid_, body_force_);
+  space_.fence();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::step() {
+  const double dt = derived_.time_step;
+  predict_to_midpoint(space_, particles_, dt);
+  halo_.wrap(space_, particles_);
+  compute_rates();
+  correct_full_step(space_, particles_, dt);
+  halo_.wrap(space_, particles_);
+  ++steps_;
+  time_ = steps_ * dt;  // not a running sum: no drift of the clock over 10^5 steps
+  if (scene_.resummation_interval > 0 && steps_ % scene_.resummation_interval == 0) {
+    refresh_neighbourhood();
+    resum_fluid_density(space_, particles_, cells_, kernel_);
+  }
+  space_.fence();
+}
+
+template <int Dim, class ExecSpace>
+double Simulation<Dim, ExecSpace>::max_density_variation() const {
+  const auto rho = particles_.rho;
+  const auto kind = particles_.kind;
+  const double rho0 = scene_.density;
+  double variation = 0.0;
+  Kokkos::parallel_reduce(
+      "poresph::max_density_variation", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      KOKKOS_LAMBDA(int i, double& worst) {
+        if (kind(i) != kFluid) return;
+        const double dev = math::fabs(rho(i) / rho0 - 1.0);
+        if (dev > worst) worst = dev;
+      },
+      Kokkos::Max<double>(variation));
+  return variation;
+}
+
+#define PORESPH_INSTANTIATE(SPACE)       \
+  template class Simulation<2, SPACE>; \
+  template class Simulation<3, SPACE>;
+PORESPH_FOR_EACH_EXECUTION_SPACE(PORESPH_INSTANTIATE)
+
+}  // namespace poresph

@@ -1,0 +1,78 @@
+#pragma once
+// One SPH run on one process: owns the particles and advances them. The
+// dimension and the execution space are template parameters; Simulation.cpp
+// instantiates the combinations the Kokkos build has.
+#include <Kokkos_Core.hpp>
+
+#include <array>
+
+#include "core/CellList.hpp"
+#include "core/Kernel.hpp"
+#include "core/Particles.hpp"
+#include "core/Vec.hpp"
+#include "io/SceneConfig.hpp"
+#include "parallel/PeriodicHalo.hpp"
+#include "physics/PairRates.hpp"
+#include "physics/TimeStep.hpp"
+
+namespace poresph {
+
+// Numbers derived from a scene: the smoothing length, sound speed and step.
+struct DerivedParameters {
+  double smoothing_length;
+  double sound_speed;
+  double velocity_scale;
+  double length_scale;
+  TimeStepLimits limits;
+  double time_step;
+};
+
+DerivedParameters derive_parameters(const SceneConfig& scene);
+
+template <int Dim, class ExecSpace>
+class Simulation {
+ public:
+  using MemorySpace = typename ExecSpace::memory_space;
+  using ParticleSet = Particles<Dim, MemorySpace>;
+
+  explicit Simulation(const SceneConfig& scene, const ExecSpace& space = ExecSpace());
+
+  // One predictor-corrector step of size time_step().
+  void step();
+  // Re-evaluates the rates at the current state (after the state was edited).
+  void compute_rates();
+
+  double time() const { return time_; }
+  long long steps() const { return steps_; }
+  double time_step() const { return derived_.time_step; }
+  const DerivedParameters& derived() const { return derived_; }
+  const SceneConfig& scene() const { return scene_; }
+  ParticleSet& particles() { return particles_; }
+  const ParticleSet& particles() const { return particles_; }
+  const ExecSpace& space() const { return space_; }
+
+  int fluid_particles() const { return fluid_count_; }
+  int boundary_particles() const { return particles_.owned - fluid_count_; }
+  // max |rho/rho0 - 1| over fluid particles.
+  double max_density_variation() const;
+
+ private:
+  // Pressure of owned particles, then ghosts and the cell list at the current positions.
+  void refresh_neighbourhood();
+
+  SceneConfig scene_;
+  ExecSpace space_;
+  DerivedParameters derived_;
+  ParticleSet particles_;
+  QuinticKernel<Dim> kernel_;
+  PeriodicHalo<Dim, ExecSpace> halo_;
+  CellList<Dim, ExecSpace> cells_;
+  Vec<Dim> search_lo_, search_hi_;  // cell extended by the support: where ghosts and walls live
+  Vec<Dim> body_force_;
+  FluidProperties fluid_;
+  int fluid_count_ = 0;
+  double time_ = 0.0;
+  long long steps_ = 0;
+};
+
+}  // namespace poresph

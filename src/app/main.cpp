@@ -1,0 +1,111 @@
+// poresph SCENE.xml [--set "Sublist/Parameter Name=value" ...] [--output DIR]
+#include <Kokkos_Core.hpp>
+#include <mpi.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "app/Run.hpp"
+#include "io/Parameters.hpp"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: poresph SCENE.xml [--set \"Sublist/Parameter Name=value\"]... [--output DIR]\n"
+    "       poresph --help-parameters    every scene parameter with its default and documentation\n"
+    "Kokkos options (--kokkos-threads=N, ...) are passed on to Kokkos.\n";
+
+struct CommandLine {
+  std::string scene_file;
+  std::vector<std::string> overrides;
+  std::string output_dir;
+  bool help = false, help_parameters = false;
+  std::vector<char*> kokkos_args;  // argv[0] and every --kokkos-* option
+};
+
+// Our options are read before Kokkos sees argv: Kokkos 3.4 would take a bare
+// --help (or --threads=) as its own.
+CommandLine parse_command_line(int argc, char** argv) {
+  CommandLine cl;
+  cl.kokkos_args.push_back(argv[0]);
+  auto value_of = [&](int& i, const std::string& option) -> std::string {
+    const std::string arg = argv[i];
+    if (arg.size() > option.size() && arg[option.size()] == '=') return arg.substr(option.size() + 1);
+    if (i + 1 >= argc) throw poresph::ParameterError(option + " needs a value");
+    return argv[++i];
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") cl.help = true;
+    else if (arg == "--help-parameters") cl.help_parameters = true;
+    else if (arg.rfind("--set", 0) == 0 && (arg.size() == 5 || arg[5] == '=')) cl.overrides.push_back(value_of(i, "--set"));
+    else if (arg.rfind("--output", 0) == 0 && (arg.size() == 8 || arg[8] == '=')) cl.output_dir = value_of(i, "--output");
+    else if (arg.rfind("--kokkos-", 0) == 0) cl.kokkos_args.push_back(argv[i]);
+    else if (arg.rfind("-", 0) == 0) throw poresph::ParameterError("unknown option " + arg);
+    else if (cl.scene_file.empty()) cl.scene_file = arg;
+    else throw poresph::ParameterError("more than one scene file given: " + cl.scene_file + ", " + arg);
+  }
+  return cl;
+}
+
+int run(const CommandLine& cl, int rank, int ranks) {
+  if (cl.help) {
+    if (rank == 0) std::cout << kUsage;
+    return 0;
+  }
+  if (cl.help_parameters) {
+    if (rank == 0) poresph::print_valid_parameters(std::cout);
+    return 0;
+  }
+  if (cl.scene_file.empty()) throw poresph::ParameterError(std::string("no scene file given\n") + kUsage);
+  auto parameters = poresph::read_parameters(cl.scene_file, cl.overrides);
+  const poresph::SceneConfig scene = poresph::scene_from_parameters(*parameters);
+  if (ranks != 1) throw std::runtime_error("this version of PoreSPH runs on one MPI rank; got " + std::to_string(ranks));
+
+  poresph::RunOptions options;
+  options.output_dir = cl.output_dir.empty() ? "poresph-" + scene.name : cl.output_dir;
+  options.progress_on_terminal = isatty(fileno(stdout));
+  std::filesystem::create_directories(options.output_dir);
+  poresph::write_parameters_xml(*parameters, options.output_dir + "/parameters_used.xml");
+
+  const auto summary = poresph::run_scene(scene, options);
+  std::cout << "poresph: " << scene.name << " done; summary in " << options.output_dir << "/summary.json\n";
+  (void)summary;
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  int status = 0;
+  CommandLine cl;
+  try {
+    cl = parse_command_line(argc, argv);
+  } catch (const std::exception& e) {
+    if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n" << kUsage;
+    MPI_Finalize();
+    return 2;
+  }
+  int kokkos_argc = static_cast<int>(cl.kokkos_args.size());
+  Kokkos::initialize(kokkos_argc, cl.kokkos_args.data());
+  try {
+    status = run(cl, rank, ranks);
+  } catch (const poresph::ParameterError& e) {
+    if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
+    status = 2;
+  } catch (const std::exception& e) {
+    if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
+    status = 1;
+  }
+  Kokkos::finalize();
+  MPI_Finalize();
+  return status;
+}

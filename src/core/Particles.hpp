@@ -1,0 +1,83 @@
+#pragma once
+// Particle storage: one Kokkos View per field (structure of arrays).
+// Slots [0, owned) are this process's particles, [owned, owned + ghosts) are
+// copies of neighbours' particles and periodic images made by the halo layer.
+#include <Kokkos_Core.hpp>
+
+#include <string>
+
+namespace poresph {
+
+// What a particle is. Boundary particles carry the shape of the surface they
+// belong to, because the no-slip velocity is measured from that surface.
+enum ParticleKind : int {
+  kFluid = 0,
+  kWallBoundary = 1,   // plane wall: wall_vector = unit normal into the fluid, wall_scalar = depth below the wall
+  kGrainBoundary = 2,  // grain: wall_vector = position minus grain centre, wall_scalar = grain radius
+};
+
+template <int Dim, class MemorySpace>
+struct Particles {
+  using Vector = Kokkos::View<double* [Dim], MemorySpace>;
+  using Scalar = Kokkos::View<double*, MemorySpace>;
+
+  // State.
+  Vector x, v;
+  Scalar rho, p, m;
+  Kokkos::View<int*, MemorySpace> kind;
+  Kokkos::View<long long*, MemorySpace> id;
+  // Start-of-step state and rates for the predictor-corrector (owned slots).
+  Vector x_start, v_start, dvdt;
+  Scalar rho_start, drhodt;
+  // Surface of each boundary particle; empty in a scene without walls or grains.
+  Vector wall_vector;
+  Scalar wall_scalar;
+
+  int owned = 0;
+  int ghosts = 0;
+  bool has_surfaces = false;
+
+  int total() const { return owned + ghosts; }
+  int capacity() const { return static_cast<int>(x.extent(0)); }
+
+  explicit Particles(bool with_surfaces = false) : has_surfaces(with_surfaces) {}
+
+  // Grows every View to at least n slots, keeping contents; grows by 25 %
+  // beyond n so that repeated ghost rebuilds do not reallocate every step.
+  void reserve(int n) {
+    if (n <= capacity()) return;
+    const int cap = n + n / 4 + 16;
+    auto grow = [cap](auto& view, const char* label) {
+      if (view.extent(0) == 0) view = std::decay_t<decltype(view)>(std::string(label), cap);
+      else Kokkos::resize(view, cap);
+    };
+    grow(x, "x"); grow(v, "v"); grow(rho, "rho"); grow(p, "p"); grow(m, "m");
+    grow(kind, "kind"); grow(id, "id");
+    grow(x_start, "x_start"); grow(v_start, "v_start"); grow(dvdt, "dvdt");
+    grow(rho_start, "rho_start"); grow(drhodt, "drhodt");
+    if (has_surfaces) { grow(wall_vector, "wall_vector"); grow(wall_scalar, "wall_scalar"); }
+  }
+};
+
+// Copies what a neighbour needs to see of particle `from` into slot `to`,
+// moving it by `shift` (a periodic image). Integration state stays behind:
+// ghosts are never integrated.
+template <int Dim, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void copy_as_ghost(const Particles<Dim, MemorySpace>& P, int from, int to,
+                                          const double (&shift)[Dim]) {
+  for (int d = 0; d < Dim; ++d) {
+    P.x(to, d) = P.x(from, d) + shift[d];
+    P.v(to, d) = P.v(from, d);
+  }
+  P.rho(to) = P.rho(from);
+  P.p(to) = P.p(from);
+  P.m(to) = P.m(from);
+  P.kind(to) = P.kind(from);
+  P.id(to) = P.id(from);
+  if (P.has_surfaces) {
+    for (int d = 0; d < Dim; ++d) P.wall_vector(to, d) = P.wall_vector(from, d);
+    P.wall_scalar(to) = P.wall_scalar(from);
+  }
+}
+
+}  // namespace poresph

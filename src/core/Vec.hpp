@@ -1,0 +1,58 @@
+#pragma once
+// A fixed-size vector for kernels: the dimension is a compile-time constant,
+// so a 2D build carries two components and no branch on the dimension.
+#include <Kokkos_Core.hpp>
+
+namespace poresph {
+
+template <int Dim>
+struct Vec {
+  double c[Dim];
+
+  KOKKOS_INLINE_FUNCTION static Vec zero() {
+    Vec r{};
+    for (int d = 0; d < Dim; ++d) r.c[d] = 0.0;
+    return r;
+  }
+  KOKKOS_INLINE_FUNCTION double& operator[](int d) { return c[d]; }
+  KOKKOS_INLINE_FUNCTION double operator[](int d) const { return c[d]; }
+
+  KOKKOS_INLINE_FUNCTION Vec& operator+=(const Vec& o) {
+    for (int d = 0; d < Dim; ++d) c[d] += o.c[d];
+    return *this;
+  }
+  KOKKOS_INLINE_FUNCTION Vec& operator-=(const Vec& o) {
+    for (int d = 0; d < Dim; ++d) c[d] -= o.c[d];
+    return *this;
+  }
+};
+
+template <int Dim>
+KOKKOS_INLINE_FUNCTION Vec<Dim> operator+(Vec<Dim> a, const Vec<Dim>& b) { return a += b; }
+template <int Dim>
+KOKKOS_INLINE_FUNCTION Vec<Dim> operator-(Vec<Dim> a, const Vec<Dim>& b) { return a -= b; }
+template <int Dim>
+KOKKOS_INLINE_FUNCTION Vec<Dim> operator*(double s, Vec<Dim> a) {
+  for (int d = 0; d < Dim; ++d) a.c[d] *= s;
+  return a;
+}
+template <int Dim>
+KOKKOS_INLINE_FUNCTION double dot(const Vec<Dim>& a, const Vec<Dim>& b) {
+  double s = 0.0;
+  for (int d = 0; d < Dim; ++d) s += a.c[d] * b.c[d];
+  return s;
+}
+
+// Row i of an (n x Dim) View as a Vec.
+template <int Dim, class View>
+KOKKOS_INLINE_FUNCTION Vec<Dim> row(const View& v, int i) {
+  Vec<Dim> r;
+  for (int d = 0; d < Dim; ++d) r.c[d] = v(i, d);
+  return r;
+}
+template <int Dim, class View>
+KOKKOS_INLINE_FUNCTION void set_row(const View& v, int i, const Vec<Dim>& r) {
+  for (int d = 0; d < Dim; ++d) v(i, d) = r.c[d];
+}
+
+}  // namespace poresph

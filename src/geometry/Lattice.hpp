@@ -1,0 +1,123 @@
+#pragma once
+// Initial particles on the square (cubic) lattice of spacing dx, points at
+// (i + 1/2) dx. Fluid fills the cell; plane channel walls add boundary layers
+// 3h thick below y = 0 and above y = L_y. Particle ids come from the lattice
+// index, so whoever generates a particle gives it the same id.
+#include <array>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "core/Kernel.hpp"
+#include "core/Particles.hpp"
+#include "io/SceneConfig.hpp"
+
+namespace poresph {
+
+template <int Dim>
+struct SeedParticle {
+  double x[Dim];
+  double v[Dim];
+  int kind;
+  double wall_vector[Dim];
+  double wall_scalar;
+  long long id;
+};
+
+// Number of lattice points across a periodic cell side; the side must hold a
+// whole number of spacings or the periodic lattice would have a seam.
+inline int lattice_points_across(double side, double dx, int d) {
+  const double n = side / dx;
+  const double rounded = std::round(n);
+  if (rounded < 1 || std::abs(n - rounded) > 1e-6 * rounded) {
+    std::ostringstream msg;
+    msg << "Domain/Cell Size[" << d << "] = " << side << " is not a whole multiple of Discretization/Particle Spacing = "
+        << dx << " (ratio " << n << ")";
+    throw std::invalid_argument(msg.str());
+  }
+  return static_cast<int>(rounded);
+}
+
+// Boundary layers at spacing dx with depth (j + 1/2) dx <= 3h.
+inline int boundary_layers(double dx, double h) {
+  return static_cast<int>(std::floor(kSupportRadiusInH * h / dx - 0.5 + 1e-9)) + 1;
+}
+
+template <int Dim>
+std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
+  const double dx = scene.particle_spacing;
+  const double h = scene.smoothing_length_ratio * dx;
+  std::array<int, Dim> first{}, count{};
+  for (int d = 0; d < Dim; ++d) count[d] = lattice_points_across(scene.cell_size[d], dx, d);
+  const bool channel = scene.walls == WallType::Channel;
+  if (channel) {
+    const int layers = boundary_layers(dx, h);
+    first[1] = -layers;
+    count[1] += 2 * layers;
+  }
+  const int fluid_rows = lattice_points_across(scene.cell_size[1], dx, 1);
+
+  long long total = 1;
+  for (int d = 0; d < Dim; ++d) total *= count[d];
+  std::vector<SeedParticle<Dim>> seeds;
+  seeds.reserve(static_cast<size_t>(total));
+  for (long long flat = 0; flat < total; ++flat) {
+    int index[Dim];
+    long long rest = flat;
+    for (int d = 0; d < Dim; ++d) {
+      index[d] = first[d] + static_cast<int>(rest % count[d]);
+      rest /= count[d];
+    }
+    SeedParticle<Dim> s{};
+    for (int d = 0; d < Dim; ++d) s.x[d] = (index[d] + 0.5) * dx;
+    s.id = flat;
+    s.kind = kFluid;
+    if (channel && (index[1] < 0 || index[1] >= fluid_rows)) {
+      const bool lower = index[1] < 0;
+      s.kind = kWallBoundary;
+      s.wall_vector[1] = lower ? 1.0 : -1.0;
+      s.wall_scalar = lower ? -s.x[1] : s.x[1] - scene.cell_size[1];
+      s.v[0] = lower ? scene.lower_wall_velocity : scene.upper_wall_velocity;
+    }
+    seeds.push_back(s);
+  }
+  return seeds;
+}
+
+// Copies seeds into owned slots [0, n) with uniform initial density rho0 and
+// mass rho0 dx^Dim.
+template <int Dim, class ExecSpace>
+void load_seeds(const std::vector<SeedParticle<Dim>>& seeds, double rho0, double dx,
+                Particles<Dim, typename ExecSpace::memory_space>& P) {
+  const int n = static_cast<int>(seeds.size());
+  P.reserve(n);
+  P.owned = n;
+  P.ghosts = 0;
+  const double mass = rho0 * std::pow(dx, Dim);
+  auto x = Kokkos::create_mirror_view(P.x), v = Kokkos::create_mirror_view(P.v);
+  auto rho = Kokkos::create_mirror_view(P.rho), m = Kokkos::create_mirror_view(P.m);
+  auto kind = Kokkos::create_mirror_view(P.kind);
+  auto id = Kokkos::create_mirror_view(P.id);
+  auto wall_vector = Kokkos::create_mirror_view(P.wall_vector);
+  auto wall_scalar = Kokkos::create_mirror_view(P.wall_scalar);
+  for (int i = 0; i < n; ++i) {
+    const auto& s = seeds[i];
+    for (int d = 0; d < Dim; ++d) {
+      x(i, d) = s.x[d];
+      v(i, d) = s.v[d];
+      if (P.has_surfaces) wall_vector(i, d) = s.wall_vector[d];
+    }
+    rho(i) = rho0;
+    m(i) = mass;
+    kind(i) = s.kind;
+    id(i) = s.id;
+    if (P.has_surfaces) wall_scalar(i) = s.wall_scalar;
+  }
+  Kokkos::deep_copy(P.x, x); Kokkos::deep_copy(P.v, v);
+  Kokkos::deep_copy(P.rho, rho); Kokkos::deep_copy(P.m, m);
+  Kokkos::deep_copy(P.kind, kind); Kokkos::deep_copy(P.id, id);
+  if (P.has_surfaces) { Kokkos::deep_copy(P.wall_vector, wall_vector); Kokkos::deep_copy(P.wall_scalar, wall_scalar); }
+}
+
+}  // namespace poresph

@@ -1,0 +1,294 @@
+#include "io/Parameters.hpp"
+
+#include <Teuchos_Array.hpp>
+#include <Teuchos_StandardParameterEntryValidators.hpp>
+#include <Teuchos_XMLParameterListCoreHelpers.hpp>
+
+#include <cctype>
+#include <cmath>
+#include <type_traits>
+#include <limits>
+#include <sstream>
+
+namespace poresph {
+namespace {
+
+using Teuchos::Array;
+using Teuchos::ParameterList;
+using Teuchos::RCP;
+using Teuchos::rcp;
+
+constexpr double kHuge = std::numeric_limits<double>::max();
+
+RCP<const Teuchos::ParameterEntryValidator> real_in(double lo, double hi) {
+  return rcp(new Teuchos::EnhancedNumberValidator<double>(lo, hi));
+}
+RCP<const Teuchos::ParameterEntryValidator> int_in(int lo, int hi) {
+  return rcp(new Teuchos::EnhancedNumberValidator<int>(lo, hi));
+}
+RCP<const Teuchos::ParameterEntryValidator> reals_in(double lo, double hi) {
+  return rcp(new Teuchos::ArrayNumberValidator<double>(rcp(new Teuchos::EnhancedNumberValidator<double>(lo, hi))));
+}
+RCP<const Teuchos::ParameterEntryValidator> ints_in(int lo, int hi) {
+  return rcp(new Teuchos::ArrayNumberValidator<int>(rcp(new Teuchos::EnhancedNumberValidator<int>(lo, hi))));
+}
+RCP<const Teuchos::ParameterEntryValidator> one_of(std::initializer_list<std::string> words) {
+  return rcp(new Teuchos::StringValidator(Array<std::string>(words)));
+}
+
+RCP<ParameterList> make_valid_parameters() {
+  auto list = rcp(new ParameterList("PoreSPH"));
+  {
+    auto& s = list->sublist("Scene", false, "What the run is called.");
+    s.set("Name", std::string("scene"), "Name written to summary.json.");
+  }
+  {
+    auto& s = list->sublist("Domain", false, "The periodic unit cell [0, L_x) x [0, L_y) (x [0, L_z)).");
+    s.set("Cell Size", Array<double>(), "REQUIRED. Side lengths of the cell; 2 values for a 2D run, 3 for 3D.",
+          reals_in(0.0, kHuge));
+    s.set("Periodic", Array<int>(),
+          "Per direction, 1 = periodic, 0 = bounded by walls. Empty: periodic in every direction.", ints_in(0, 1));
+  }
+  {
+    auto& s = list->sublist("Fluid", false, "The fluid and the force that drives it.");
+    s.set("Density", 1000.0, "Reference density rho0 (kg/m^3); particle mass is rho0 dx^N.", real_in(0.0, kHuge));
+    s.set("Kinematic Viscosity", 1e-6, "REQUIRED. Kinematic viscosity nu (m^2/s), >= 0.", real_in(0.0, kHuge));
+    s.set("Body Force", Array<double>(), "Body acceleration F (m/s^2), one value per direction. Empty: none.",
+          reals_in(-kHuge, kHuge));
+    s.set("Sound Speed", 0.0,
+          "Speed of sound c (m/s). 0: c^2 = max(V^2/delta, nu V/(delta L), |F| L/delta) from the scales below.",
+          real_in(0.0, kHuge));
+    s.set("Density Variation", 0.01, "delta, the density variation the sound-speed rule aims at.",
+          real_in(1e-6, 0.5));
+    s.set("Velocity Scale", 0.0,
+          "V for the sound-speed rule (m/s). 0: the larger of the wall speeds and |F| L^2/(8 nu).",
+          real_in(0.0, kHuge));
+    s.set("Pressure Gradient", std::string("gauge"),
+          "Pressure in the momentum equation. 'gauge': p - c^2 rho0 (default); 'absolute': p = c^2 rho as "
+          "printed in Morris et al. 1999. A uniform pressure has no gradient, but through the SPH gradient of a "
+          "slowly sheared particle lattice it exerts a spurious shear stress proportional to itself; with "
+          "'absolute' the steady Poiseuille profile is off by several percent (docs/validation.md).",
+          one_of({"gauge", "absolute"}));
+    s.set("Length Scale", 0.0, "L for the sound-speed rule (m). 0: the largest cell side.", real_in(0.0, kHuge));
+  }
+  {
+    auto& s = list->sublist("Discretization", false, "Particles, kernel and time stepping.");
+    s.set("Particle Spacing", 0.0, "REQUIRED. Initial lattice spacing dx (m); must divide every periodic cell side.",
+          real_in(0.0, kHuge));
+    s.set("Smoothing Length Ratio", 1.0, "h / dx of the quintic kernel (support 3h).", real_in(0.5, 3.0));
+    s.set("Density Resummation Interval", 0,
+          "Re-initialise fluid density by summation every this many steps; 0 = never.", int_in(0, 1 << 30));
+    s.set("Time Step", 0.0,
+          "Fixed time step (s). 0: min(0.25 h/c, 0.125 h^2/nu, 0.25 sqrt(h/|F|)). A larger value is refused.",
+          real_in(0.0, kHuge));
+  }
+  {
+    auto& s = list->sublist("Walls", false, "Plane no-slip walls.");
+    s.set("Type", std::string("none"),
+          "'none', or 'channel': walls at y = 0 and y = L_y (needs Domain/Periodic 0 in y), "
+          "boundary particles 3h thick beyond them.",
+          one_of({"none", "channel"}));
+    s.set("Lower Velocity", 0.0, "x velocity of the wall at y = 0 (m/s).", real_in(-kHuge, kHuge));
+    s.set("Upper Velocity", 0.0, "x velocity of the wall at y = L_y (m/s).", real_in(-kHuge, kHuge));
+  }
+  {
+    auto& s = list->sublist("Run", false, "How long to run.");
+    s.set("End Time", 0.0, "REQUIRED. Simulated time to reach (s).", real_in(0.0, kHuge));
+    s.set("Max Steps", 0, "Stop after this many steps at the latest; 0 = no limit.", int_in(0, 1 << 30));
+    s.set("Progress", std::string("auto"),
+          "Progress line (step, time, % done, ETA): 'auto' = only on a terminal, 'always', 'never'.",
+          one_of({"auto", "always", "never"}));
+  }
+  {
+    auto& s = list->sublist("Diagnostics", false, "Checks against known solutions.");
+    s.set("Profile Sample Times", Array<double>(),
+          "Channel scenes: times (s) at which v_x is compared with the start-up series solution; the end "
+          "of the run is always compared too.",
+          reals_in(0.0, kHuge));
+  }
+  return list;
+}
+
+std::vector<std::string> split_path(const std::string& path) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(path);
+  while (std::getline(in, part, '/')) parts.push_back(part);
+  return parts;
+}
+
+template <class T>
+T parse_number(const std::string& text, const std::string& where) {
+  size_t used = 0;
+  T value{};
+  try {
+    if constexpr (std::is_same_v<T, int>) value = std::stoi(text, &used);
+    else value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  while (used < text.size() && std::isspace(static_cast<unsigned char>(text[used]))) ++used;
+  if (used == 0 || used != text.size())
+    throw ParameterError("--set " + where + ": '" + text + "' is not a valid " +
+                         (std::is_same_v<T, int> ? "integer" : "number"));
+  return value;
+}
+
+template <class T>
+Array<T> parse_array(const std::string& text, const std::string& where) {
+  try {
+    return Teuchos::fromStringToArray<T>(text);
+  } catch (const std::exception&) {
+    throw ParameterError("--set " + where + ": '" + text + "' is not an array like {1, 2}");
+  }
+}
+
+bool has_value(const ParameterList& list, const std::string& sublist, const std::string& name) {
+  return list.isSublist(sublist) && list.sublist(sublist).isParameter(name);
+}
+
+}  // namespace
+
+RCP<const ParameterList> valid_parameters() {
+  static const RCP<const ParameterList> list = make_valid_parameters();
+  return list;
+}
+
+void print_valid_parameters(std::ostream& os) {
+  os << "PoreSPH scene parameters (XML: <ParameterList name=\"...\"> with one sublist per group).\n"
+        "Each line: name : type = default, then its documentation and valid values.\n\n";
+  valid_parameters()->print(os, ParameterList::PrintOptions().showTypes(true).showDoc(true).indent(2));
+}
+
+void apply_override(ParameterList& list, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ParameterError("--set expects \"Sublist/Parameter Name=value\", got '" + assignment + "'");
+  const std::string path = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  const auto parts = split_path(path);
+  const ParameterList* valid = valid_parameters().get();
+  ParameterList* target = &list;
+  for (size_t k = 0; k + 1 < parts.size(); ++k) {
+    if (!valid->isSublist(parts[k]))
+      throw ParameterError("--set " + path + ": there is no parameter group '" + parts[k] +
+                           "' (see poresph --help-parameters)");
+    valid = &valid->sublist(parts[k]);
+    target = &target->sublist(parts[k]);
+  }
+  const std::string& name = parts.back();
+  if (parts.size() < 2 || !valid->isParameter(name) || valid->isSublist(name))
+    throw ParameterError("--set " + path + ": unknown parameter (see poresph --help-parameters)");
+  const auto& entry = valid->getEntry(name);
+  if (entry.isType<double>()) target->set(name, parse_number<double>(text, path));
+  else if (entry.isType<int>()) target->set(name, parse_number<int>(text, path));
+  else if (entry.isType<std::string>()) target->set(name, text);
+  else if (entry.isType<Array<double>>()) target->set(name, parse_array<double>(text, path));
+  else if (entry.isType<Array<int>>()) target->set(name, parse_array<int>(text, path));
+  else throw ParameterError("--set " + path + ": this parameter cannot be set from the command line");
+}
+
+void validate_parameters(ParameterList& list) {
+  // Teuchos has no notion of a required parameter: check those first.
+  const std::pair<const char*, const char*> required[] = {{"Domain", "Cell Size"},
+                                                          {"Fluid", "Kinematic Viscosity"},
+                                                          {"Discretization", "Particle Spacing"},
+                                                          {"Run", "End Time"}};
+  for (const auto& [group, name] : required)
+    if (!has_value(list, group, name))
+      throw ParameterError(std::string("missing required parameter ") + group + "/" + name +
+                           " (see poresph --help-parameters)");
+  try {
+    list.validateParametersAndSetDefaults(*valid_parameters());
+  } catch (const std::exception& e) {
+    throw ParameterError(std::string("invalid scene parameters:\n") + e.what());
+  }
+}
+
+RCP<ParameterList> read_parameters(const std::string& xml_file, const std::vector<std::string>& overrides) {
+  RCP<ParameterList> list;
+  try {
+    list = Teuchos::getParametersFromXmlFile(xml_file);
+  } catch (const std::exception& e) {
+    throw ParameterError("cannot read scene file '" + xml_file + "':\n" + e.what());
+  }
+  for (const auto& assignment : overrides) apply_override(*list, assignment);
+  validate_parameters(*list);
+  return list;
+}
+
+SceneConfig scene_from_parameters(const ParameterList& list) {
+  SceneConfig scene;
+  auto fail = [](const std::string& msg) { throw ParameterError(msg); };
+  scene.name = list.sublist("Scene").get<std::string>("Name");
+
+  const auto& domain = list.sublist("Domain");
+  const auto cell = domain.get<Array<double>>("Cell Size");
+  if (cell.size() != 2 && cell.size() != 3)
+    fail("Domain/Cell Size must have 2 (2D) or 3 (3D) values, got " + std::to_string(cell.size()));
+  scene.dimension = static_cast<int>(cell.size());
+  const int dim = scene.dimension;
+  for (int d = 0; d < dim; ++d) {
+    if (!(cell[d] > 0)) fail("Domain/Cell Size: every side must be positive");
+    scene.cell_size[d] = cell[d];
+  }
+  const auto periodic = domain.get<Array<int>>("Periodic");
+  if (!periodic.empty() && static_cast<int>(periodic.size()) != dim)
+    fail("Domain/Periodic must have one value per direction (" + std::to_string(dim) + ")");
+  for (int d = 0; d < dim; ++d) scene.periodic[d] = periodic.empty() ? true : periodic[d] != 0;
+
+  const auto& fluid = list.sublist("Fluid");
+  scene.density = fluid.get<double>("Density");
+  if (!(scene.density > 0)) fail("Fluid/Density must be positive");
+  scene.kinematic_viscosity = fluid.get<double>("Kinematic Viscosity");
+  const auto force = fluid.get<Array<double>>("Body Force");
+  if (!force.empty() && static_cast<int>(force.size()) != dim)
+    fail("Fluid/Body Force must have one value per direction (" + std::to_string(dim) + ")");
+  for (int d = 0; d < static_cast<int>(force.size()); ++d) scene.body_force[d] = force[d];
+  scene.sound_speed = fluid.get<double>("Sound Speed");
+  scene.density_variation = fluid.get<double>("Density Variation");
+  scene.velocity_scale = fluid.get<double>("Velocity Scale");
+  scene.length_scale = fluid.get<double>("Length Scale");
+  scene.absolute_pressure_gradient = fluid.get<std::string>("Pressure Gradient") == "absolute";
+
+  const auto& disc = list.sublist("Discretization");
+  scene.particle_spacing = disc.get<double>("Particle Spacing");
+  if (!(scene.particle_spacing > 0)) fail("Discretization/Particle Spacing must be positive");
+  scene.smoothing_length_ratio = disc.get<double>("Smoothing Length Ratio");
+  scene.resummation_interval = disc.get<int>("Density Resummation Interval");
+  scene.time_step = disc.get<double>("Time Step");
+
+  const auto& walls = list.sublist("Walls");
+  const auto wall_type = walls.get<std::string>("Type");
+  scene.walls = wall_type == "channel" ? WallType::Channel : WallType::None;
+  scene.lower_wall_velocity = walls.get<double>("Lower Velocity");
+  scene.upper_wall_velocity = walls.get<double>("Upper Velocity");
+  for (int d = 0; d < dim; ++d) {
+    const bool walled = scene.walls == WallType::Channel && d == 1;
+    if (walled && scene.periodic[d])
+      fail("Walls/Type = channel puts walls at y = 0 and y = L_y: set Domain/Periodic to 0 in y");
+    if (!walled && !scene.periodic[d])
+      fail("Domain/Periodic is 0 in direction " + std::to_string(d) +
+           " but no wall bounds it (only Walls/Type = channel, in y, is available)");
+  }
+  if (scene.walls == WallType::None && (scene.lower_wall_velocity != 0 || scene.upper_wall_velocity != 0))
+    fail("Walls/Lower Velocity and Walls/Upper Velocity need Walls/Type = channel");
+
+  const auto& run = list.sublist("Run");
+  scene.end_time = run.get<double>("End Time");
+  if (!(scene.end_time > 0)) fail("Run/End Time must be positive");
+  scene.max_steps = run.get<int>("Max Steps");
+  const auto progress = run.get<std::string>("Progress");
+  scene.progress = progress == "always" ? ProgressMode::Always
+                   : progress == "never" ? ProgressMode::Never
+                                         : ProgressMode::Auto;
+
+  const auto samples = list.sublist("Diagnostics").get<Array<double>>("Profile Sample Times");
+  scene.profile_sample_times.assign(samples.begin(), samples.end());
+  return scene;
+}
+
+void write_parameters_xml(const ParameterList& list, const std::string& file) {
+  Teuchos::writeParameterListToXmlFile(list, file);
+}
+
+}  // namespace poresph

@@ -1,0 +1,45 @@
+#pragma once
+// Equation of state and density re-initialisation by summation.
+#include <Kokkos_Core.hpp>
+
+#include "core/CellList.hpp"
+#include "core/Kernel.hpp"
+#include "core/Math.hpp"
+#include "core/Particles.hpp"
+#include "physics/PairTerms.hpp"
+
+namespace poresph {
+
+template <int Dim, class ExecSpace>
+void update_pressure(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                     double sound_speed_sq) {
+  const auto rho = P.rho, p = P.p;
+  Kokkos::parallel_for(
+      "poresph::update_pressure", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
+      KOKKOS_LAMBDA(int i) { p(i) = pressure_from_density(rho(i), sound_speed_sq); });
+}
+
+// rho_a = sum_b m_b W_ab (self included) for fluid particles. Boundary
+// particles keep their continuity density: the solid beyond their 3h shell
+// holds no particles, so a sum would be deficient there.
+template <int Dim, class ExecSpace>
+void resum_fluid_density(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                         const CellList<Dim, ExecSpace>& cells, const QuinticKernel<Dim>& kernel) {
+  const auto x = P.x, m = P.m, rho = P.rho;
+  const auto kind = P.kind;
+  Kokkos::parallel_for(
+      "poresph::resum_fluid_density", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
+      KOKKOS_LAMBDA(int a) {
+        if (kind(a) != kFluid) return;
+        const Vec<Dim> x_a = row<Dim>(x, a);
+        double sum = 0.0;
+        cells.for_each_candidate(x_a, [&](int b) {
+          const Vec<Dim> r_ab = x_a - row<Dim>(x, b);
+          const double r_sq = dot(r_ab, r_ab);
+          if (r_sq < kernel.cutoff_sq) sum += m(b) * kernel.value(math::sqrt(r_sq));
+        });
+        rho(a) = sum;
+      });
+}
+
+}  // namespace poresph

@@ -1,0 +1,49 @@
+#pragma once
+// Predictor-corrector step of the paper: advance to the mid-point with the
+// old rates, evaluate the interparticle forces there, then advance the whole
+// step from the start with the mid-point rates. Boundary particles move with
+// their surface's prescribed velocity and keep it.
+#include <Kokkos_Core.hpp>
+
+#include "core/Particles.hpp"
+
+namespace poresph {
+
+template <int Dim, class ExecSpace>
+void predict_to_midpoint(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                         double dt) {
+  const auto Q = P;
+  const double half = 0.5 * dt;
+  Kokkos::parallel_for(
+      "poresph::predict_to_midpoint", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+        const bool fluid = Q.kind(i) == kFluid;
+        for (int d = 0; d < Dim; ++d) {
+          Q.x_start(i, d) = Q.x(i, d);
+          Q.v_start(i, d) = Q.v(i, d);
+          Q.x(i, d) += half * Q.v(i, d);
+          if (fluid) Q.v(i, d) += half * Q.dvdt(i, d);
+        }
+        Q.rho_start(i) = Q.rho(i);
+        Q.rho(i) += half * Q.drhodt(i);
+      });
+}
+
+template <int Dim, class ExecSpace>
+void correct_full_step(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                       double dt) {
+  const auto Q = P;
+  Kokkos::parallel_for(
+      "poresph::correct_full_step", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+        const bool fluid = Q.kind(i) == kFluid;
+        for (int d = 0; d < Dim; ++d) {
+          const double v_start = Q.v_start(i, d);
+          const double v_end = fluid ? v_start + dt * Q.dvdt(i, d) : v_start;
+          Q.v(i, d) = v_end;
+          // Trapezoidal positions: second order, and exact for boundary particles.
+          Q.x(i, d) = Q.x_start(i, d) + 0.5 * dt * (v_start + v_end);
+        }
+        Q.rho(i) = Q.rho_start(i) + dt * Q.drhodt(i);
+      });
+}
+
+}  // namespace poresph
