@@ -1,1 +1,168 @@
+// Cell-list neighbour search with periodic images (halo) against brute
+// force over all periodic images, on random particles.
 #include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+#include <tuple>
+
+#include "TestSpaces.hpp"
+#include "core/CellList.hpp"
+#include "core/Particles.hpp"
+#include "parallel/PeriodicHalo.hpp"
+
+namespace poresph {
+namespace {
+
+template <class Space>
+class NeighbourSearch : public ::testing::Test {};
+TYPED_TEST_SUITE(NeighbourSearch, testing::ExecutionSpaces);
+
+// A neighbour: (particle id, image shift in units of the cell side per direction).
+using Neighbour = std::tuple<long long, int, int, int>;
+
+template <int Dim, class Space>
+Particles<Dim, typename Space::memory_space> random_particles(int n, const double (&side)[Dim], unsigned seed) {
+  Particles<Dim, typename Space::memory_space> P;
+  P.reserve(n);
+  P.owned = n;
+  auto x = Kokkos::create_mirror_view(P.x);
+  auto id = Kokkos::create_mirror_view(P.id);
+  std::mt19937 rng(seed);
+  for (int i = 0; i < n; ++i) {
+    for (int d = 0; d < Dim; ++d) x(i, d) = std::uniform_real_distribution<double>(0.0, side[d])(rng);
+    id(i) = i;
+  }
+  Kokkos::deep_copy(P.x, x);
+  Kokkos::deep_copy(P.id, id);
+  return P;
+}
+
+// Every (i, neighbour) pair within the cutoff, over all images k in {-1,0,1}^Dim
+// of the periodic directions.
+template <int Dim, class HostX>
+std::vector<std::set<Neighbour>> brute_force(const HostX& x, int n, const double (&side)[Dim],
+                                             const std::array<bool, Dim>& periodic, double cutoff) {
+  std::vector<std::set<Neighbour>> result(n);
+  const int images = static_cast<int>(std::pow(3, Dim));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < images; ++k) {
+        int shift[3] = {0, 0, 0};
+        bool allowed = true;
+        double r_sq = 0;
+        for (int d = 0, rest = k; d < Dim; ++d, rest /= 3) {
+          shift[d] = rest % 3 - 1;
+          if (shift[d] != 0 && !periodic[d]) allowed = false;
+          const double r = x(i, d) - (x(j, d) + shift[d] * side[d]);
+          r_sq += r * r;
+        }
+        if (!allowed || r_sq >= cutoff * cutoff || (i == j && k == images / 2)) continue;
+        result[i].insert({j, shift[0], shift[1], shift[2]});
+      }
+  return result;
+}
+
+template <int Dim, class Space>
+void compare_with_brute_force(const double (&side)[Dim], const std::array<bool, Dim>& periodic, double cutoff,
+                              int n, unsigned seed) {
+  const Space space;
+  auto P = random_particles<Dim, Space>(n, side, seed);
+  Vec<Dim> lo = Vec<Dim>::zero(), hi, search_lo, search_hi;
+  for (int d = 0; d < Dim; ++d) hi[d] = side[d], search_lo[d] = -cutoff, search_hi[d] = side[d] + cutoff;
+  PeriodicHalo<Dim, Space>(lo, hi, periodic, cutoff).build(space, P);
+  CellList<Dim, Space> cells;
+  cells.build(space, P.x, P.total(), search_lo, search_hi, cutoff);
+
+  Kokkos::View<int*, typename Space::memory_space> count("count", n);
+  const int capacity = 4 * n;
+  Kokkos::View<int**, typename Space::memory_space> found("found", n, capacity);
+  const auto x = P.x;
+  const double cutoff_sq = cutoff * cutoff;
+  Kokkos::parallel_for(
+      "test::search", Kokkos::RangePolicy<Space>(space, 0, n), KOKKOS_LAMBDA(int i) {
+        const Vec<Dim> xi = row<Dim>(x, i);
+        cells.for_each_candidate(xi, [&](int j) {
+          const Vec<Dim> r = xi - row<Dim>(x, j);
+          if (j == i || dot(r, r) >= cutoff_sq) return;
+          if (count(i) < capacity) found(i, count(i)) = j;
+          ++count(i);
+        });
+      });
+  auto h_count = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), count);
+  auto h_found = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), found);
+  auto h_x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
+  auto h_id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.id);
+  const auto expected = brute_force<Dim>(h_x, n, side, periodic, cutoff);
+  long long pairs = 0;
+  for (int i = 0; i < n; ++i) {
+    ASSERT_LE(h_count(i), capacity);
+    std::set<Neighbour> got;
+    for (int k = 0; k < h_count(i); ++k) {
+      const int j = h_found(i, k);
+      const long long source = h_id(j);
+      int shift[3] = {0, 0, 0};
+      for (int d = 0; d < Dim; ++d) shift[d] = static_cast<int>(std::lround((h_x(j, d) - h_x(source, d)) / side[d]));
+      const bool inserted = got.insert({source, shift[0], shift[1], shift[2]}).second;
+      EXPECT_TRUE(inserted) << "particle " << i << " sees a neighbour image twice";
+    }
+    EXPECT_EQ(got, expected[i]) << "particle " << i;
+    pairs += h_count(i);
+  }
+  EXPECT_GT(pairs, n);  // the test found something to compare
+}
+
+TYPED_TEST(NeighbourSearch, MatchesBruteForceWithoutPeriodicity2D) {
+  compare_with_brute_force<2, TypeParam>({1.0, 0.7}, {false, false}, 0.12, 600, 1);
+}
+TYPED_TEST(NeighbourSearch, MatchesBruteForcePeriodic2D) {
+  compare_with_brute_force<2, TypeParam>({1.0, 0.7}, {true, true}, 0.12, 600, 2);
+}
+TYPED_TEST(NeighbourSearch, MatchesBruteForcePeriodicInXOnly2D) {
+  compare_with_brute_force<2, TypeParam>({1.0, 0.7}, {true, false}, 0.12, 600, 3);
+}
+TYPED_TEST(NeighbourSearch, MatchesBruteForceWhenTheCellHoldsTwoImagesOfASupport) {
+  // Cell side between 3h and 6h: a particle can see two images of one neighbour.
+  compare_with_brute_force<2, TypeParam>({1.0, 1.0}, {true, true}, 0.45, 300, 4);
+}
+TYPED_TEST(NeighbourSearch, MatchesBruteForcePeriodic3D) {
+  compare_with_brute_force<3, TypeParam>({1.0, 0.8, 0.6}, {true, true, true}, 0.2, 500, 5);
+}
+TYPED_TEST(NeighbourSearch, MatchesBruteForceMixed3D) {
+  compare_with_brute_force<3, TypeParam>({1.0, 0.8, 0.6}, {true, false, true}, 0.2, 500, 6);
+}
+
+TYPED_TEST(NeighbourSearch, CornerParticleArrivesOnceAtEachImageWithItsShift) {
+  const TypeParam space;
+  Particles<2, typename TypeParam::memory_space> P;
+  P.reserve(1);
+  P.owned = 1;
+  auto x = Kokkos::create_mirror_view(P.x);
+  x(0, 0) = 0.05, x(0, 1) = 0.98;  // near the corner (0, 1)
+  Kokkos::deep_copy(P.x, x);
+  const Vec<2> lo{{0, 0}}, hi{{1, 1}};
+  PeriodicHalo<2, TypeParam>(lo, hi, {true, true}, 0.1).build(space, P);
+  ASSERT_EQ(P.ghosts, 3);
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
+  std::set<std::pair<long, long>> shifts;
+  for (int g = 1; g <= 3; ++g) shifts.insert({std::lround(h(g, 0) - h(0, 0)), std::lround(h(g, 1) - h(0, 1))});
+  const std::set<std::pair<long, long>> expected{{1, 0}, {0, -1}, {1, -1}};
+  EXPECT_EQ(shifts, expected);
+}
+
+TEST(PeriodicHalo, RefusesACellNarrowerThanTheSupport) {
+  const Vec<2> lo{{0, 0}}, hi{{0.2, 1}};
+  EXPECT_THROW((PeriodicHalo<2, Kokkos::Serial>(lo, hi, {true, true}, 0.3)), std::invalid_argument);
+  EXPECT_NO_THROW((PeriodicHalo<2, Kokkos::Serial>(lo, hi, {false, true}, 0.3)));
+}
+
+TEST(PeriodicHalo, WrapKeepsCoordinatesInsideTheCell) {
+  using H = PeriodicHalo<2, Kokkos::Serial>;
+  EXPECT_DOUBLE_EQ(H::wrap_coordinate(1.25, 0.0, 1.0), 0.25);
+  EXPECT_DOUBLE_EQ(H::wrap_coordinate(-0.25, 0.0, 1.0), 0.75);
+  EXPECT_LT(H::wrap_coordinate(-1e-20, 0.0, 1.0), 1.0);  // -1e-20 + 1 rounds to 1
+  EXPECT_DOUBLE_EQ(H::wrap_coordinate(0.5, 0.0, 1.0), 0.5);
+}
+
+}  // namespace
+}  // namespace poresph

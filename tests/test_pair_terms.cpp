@@ -1,1 +1,108 @@
+// The smallest physics pieces against hand values: one pair's terms,
+// no-slip distances, the sound-speed and time-step rules, the series solutions.
 #include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "diagnostics/ChannelFlow.hpp"
+#include "physics/NoSlip.hpp"
+#include "physics/PairTerms.hpp"
+#include "physics/TimeStep.hpp"
+
+namespace poresph {
+namespace {
+
+TEST(PairTerms, ContinuityRateByHand) {
+  // m_b F (v_ab . r_ab) = 2 * (-3) * (1*0.5 + (-2)*0.25) = 0 ; and a non-zero case
+  EXPECT_DOUBLE_EQ(continuity_rate<2>(2.0, Vec<2>{{1.0, -2.0}}, Vec<2>{{0.5, 0.25}}, -3.0), 0.0);
+  EXPECT_DOUBLE_EQ(continuity_rate<2>(2.0, Vec<2>{{1.0, 2.0}}, Vec<2>{{0.5, 0.25}}, -3.0), -6.0);
+}
+
+TEST(PairTerms, PressureAccelerationByHand) {
+  // -m_b (p_a/rho_a^2 + p_b/rho_b^2) F r_ab = -2 (8/4 + 9/9) (-0.5) r = 3 r
+  const auto a = pressure_acceleration<2>(2.0, 8.0, 2.0, 9.0, 3.0, Vec<2>{{1.0, -2.0}}, -0.5);
+  EXPECT_DOUBLE_EQ(a[0], 3.0);
+  EXPECT_DOUBLE_EQ(a[1], -6.0);
+}
+
+TEST(PairTerms, ViscousAccelerationByHand) {
+  // m_b nu (rho_a + rho_b)/(rho_a rho_b) F v_ab = 2 * 0.1 * 5/6 * (-0.5) v
+  const auto a = viscous_acceleration<2>(2.0, 0.1, 2.0, 3.0, Vec<2>{{6.0, 0.0}}, -0.5);
+  EXPECT_NEAR(a[0], -0.5, 1e-15);
+  EXPECT_EQ(a[1], 0.0);
+}
+
+TEST(PairTerms, PairForcesAreAntisymmetric) {
+  // m_a * (force on a from b) = -m_b * (force on b from a), to the last bit up to one rounding.
+  const double m_a = 1.3, m_b = 0.7, rho_a = 1.01, rho_b = 0.98, p_a = 2.0, p_b = 2.5, F = -0.37;
+  const Vec<3> r_ab{{0.3, -0.1, 0.2}}, r_ba{{-0.3, 0.1, -0.2}};
+  const Vec<3> v_ab{{0.01, 0.02, -0.03}}, v_ba{{-0.01, -0.02, 0.03}};
+  const auto f_ab = pressure_acceleration<3>(m_b, p_a, rho_a, p_b, rho_b, r_ab, F) +
+                    viscous_acceleration<3>(m_b, 0.01, rho_a, rho_b, v_ab, F);
+  const auto f_ba = pressure_acceleration<3>(m_a, p_b, rho_b, p_a, rho_a, r_ba, F) +
+                    viscous_acceleration<3>(m_a, 0.01, rho_b, rho_a, v_ba, F);
+  for (int d = 0; d < 3; ++d) EXPECT_NEAR(m_a * f_ab[d], -m_b * f_ba[d], 1e-15);
+}
+
+TEST(PairTerms, EquationOfStateIsLinear) { EXPECT_DOUBLE_EQ(pressure_from_density(1000.0, 4.0), 4000.0); }
+
+TEST(NoSlip, PlaneWallDistances) {
+  // Wall y = 0, normal +y. Fluid a at y = 0.3, boundary B at y = -1.5 (depth 1.5).
+  const Vec<2> r_aB{{0.7, 1.8}};
+  const auto s = surface_distances<2>(kWallBoundary, Vec<2>{{0.0, 1.0}}, 1.5, r_aB);
+  EXPECT_DOUBLE_EQ(s.fluid, 0.3);
+  EXPECT_DOUBLE_EQ(s.boundary, 1.5);
+  EXPECT_DOUBLE_EQ(no_slip_factor(s, 0.1), 1.0 + 1.5 / 0.3);
+  EXPECT_DOUBLE_EQ(no_slip_factor(s, 0.5), 1.0 + 1.5 / 0.5);  // d_a bounded below
+}
+
+TEST(NoSlip, GrainDistancesUseTheTangentAtTheFootOfTheNormal) {
+  // Grain centre (0,0), radius 1. Fluid a at (0, 1.2): d_a = 0.2, tangent plane y = 1.
+  // B at (0.6, 0.5): offset from centre (0.6, 0.5), d_B = 1 - 0.5 = 0.5.
+  const Vec<2> x_a{{0.0, 1.2}}, x_B{{0.6, 0.5}};
+  const auto s = surface_distances<2>(kGrainBoundary, x_B, 1.0, x_a - x_B);
+  EXPECT_NEAR(s.fluid, 0.2, 1e-15);
+  EXPECT_NEAR(s.boundary, 0.5, 1e-15);
+  EXPECT_NEAR(s.normal[1], 1.0, 1e-15);
+}
+
+TEST(NoSlip, GrainDistancesDoNotDependOnWhichImageOfTheGrainBIsIn) {
+  // The same pair seen across a periodic boundary: r_aB and B's offset are image independent.
+  const Vec<2> offset{{-0.3, 0.8}}, r_aB{{0.25, 0.4}};
+  const auto s1 = surface_distances<2>(kGrainBoundary, offset, 0.9, r_aB);
+  const auto s2 = surface_distances<2>(kGrainBoundary, offset, 0.9, r_aB);
+  EXPECT_EQ(s1.fluid, s2.fluid);
+  const Vec<2> from_centre = r_aB + offset;
+  EXPECT_NEAR(s1.fluid, std::sqrt(dot(from_centre, from_centre)) - 0.9, 1e-15);
+}
+
+TEST(TimeStep, SoundSpeedRuleTakesTheLargestScale) {
+  // Morris et al. (1997) Poiseuille: V = 2.5e-5, L = 1e-3, nu = 1e-6, F = 2e-4, delta = 0.01.
+  const double c_sq = sound_speed_squared_from_scales(2.5e-5, 1e-3, 2e-4, 1e-6, 0.01);
+  EXPECT_NEAR(c_sq, 2e-5, 1e-20);  // a L / delta dominates V^2/delta = 6.25e-8 and nu V/(delta L) = 2.5e-6
+  EXPECT_DOUBLE_EQ(sound_speed_squared_from_scales(10.0, 1.0, 0.0, 0.0, 0.01), 1e4);
+}
+
+TEST(TimeStep, LimitsByHand) {
+  const auto limits = time_step_limits(2.0, 4.0, 0.5, 8.0);
+  EXPECT_DOUBLE_EQ(limits.acoustic, 0.125);
+  EXPECT_DOUBLE_EQ(limits.viscous, 1.0);
+  EXPECT_DOUBLE_EQ(limits.force, 0.125);
+  EXPECT_DOUBLE_EQ(limits.smallest(), 0.125);
+  EXPECT_TRUE(std::isinf(time_step_limits(1.0, 1.0, 0.0, 0.0).viscous));
+}
+
+TEST(ChannelFlow, SeriesStartAtRestAndReachTheSteadyProfile) {
+  const ChannelFlow poiseuille{1e-3, 1e-6, 2e-4, 0.0, 0.0};
+  EXPECT_NEAR(poiseuille.velocity(0.5e-3, 1e-9), 0.0, 1e-9);
+  EXPECT_NEAR(poiseuille.velocity(0.5e-3, 100.0), 2.5e-5, 1e-15);
+  EXPECT_DOUBLE_EQ(poiseuille.steady_peak(), 2.5e-5);
+  const ChannelFlow couette{1e-3, 1e-6, 0.0, 0.0, 2.5e-5};
+  EXPECT_NEAR(couette.velocity(0.25e-3, 100.0), 0.25 * 2.5e-5, 1e-15);
+  EXPECT_NEAR(couette.velocity(0.25e-3, 1e-6), 0.0, 1e-9);
+  const ChannelFlow lower{1e-3, 1e-6, 0.0, 2.5e-5, 0.0};  // the mirror image
+  EXPECT_NEAR(lower.velocity(0.25e-3, 0.03), couette.velocity(0.75e-3, 0.03), 1e-15);
+}
+
+}  // namespace
+}  // namespace poresph

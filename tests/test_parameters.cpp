@@ -1,1 +1,171 @@
+// Scene parameters: validation errors name the parameter; --set overrides.
 #include <gtest/gtest.h>
+
+#include <Teuchos_Array.hpp>
+
+#include "geometry/Lattice.hpp"
+#include "io/Parameters.hpp"
+
+namespace poresph {
+namespace {
+
+using Teuchos::Array;
+using Teuchos::ParameterList;
+
+// Teuchos::Array has no initializer-list constructor ({a, b} would pick the
+// iterator-pair one): go through std::vector.
+template <class T>
+Array<T> array(std::initializer_list<T> values) {
+  return Array<T>(std::vector<T>(values));
+}
+
+ParameterList minimal_scene() {
+  ParameterList list("PoreSPH");
+  list.sublist("Domain").set("Cell Size", array<double>({1.0, 1.0}));
+  list.sublist("Fluid").set("Kinematic Viscosity", 1e-2);
+  list.sublist("Fluid").set("Body Force", array<double>({1e-3, 0.0}));
+  list.sublist("Discretization").set("Particle Spacing", 0.05);
+  list.sublist("Run").set("End Time", 1.0);
+  return list;
+}
+
+// The message of the ParameterError that `f` raises ("" if none).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const ParameterError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Parameters, MinimalSceneValidatesAndGetsDefaults) {
+  auto list = minimal_scene();
+  validate_parameters(list);
+  const SceneConfig scene = scene_from_parameters(list);
+  EXPECT_EQ(scene.dimension, 2);
+  EXPECT_EQ(scene.density, 1000.0);
+  EXPECT_TRUE(scene.periodic[0] && scene.periodic[1]);
+  EXPECT_EQ(scene.walls, WallType::None);
+  EXPECT_EQ(list.sublist("Discretization").get<double>("Smoothing Length Ratio"), 1.0);
+}
+
+TEST(Parameters, UnknownNameIsNamed) {
+  auto list = minimal_scene();
+  list.sublist("Fluid").set("Kinematic Viscosty", 1e-6);  // misspelt
+  const auto message = error_of([&] { validate_parameters(list); });
+  EXPECT_NE(message.find("Kinematic Viscosty"), std::string::npos) << message;
+}
+
+TEST(Parameters, UnknownSublistIsNamed) {
+  auto list = minimal_scene();
+  list.sublist("Fluids").set("Density", 1.0);
+  const auto message = error_of([&] { validate_parameters(list); });
+  EXPECT_NE(message.find("Fluids"), std::string::npos) << message;
+}
+
+TEST(Parameters, WrongTypeIsNamed) {
+  auto list = minimal_scene();
+  list.sublist("Fluid").set("Density", std::string("water"));
+  const auto message = error_of([&] { validate_parameters(list); });
+  EXPECT_NE(message.find("Density"), std::string::npos) << message;
+}
+
+TEST(Parameters, NegativeViscosityIsOutOfRange) {
+  auto list = minimal_scene();
+  list.sublist("Fluid").set("Kinematic Viscosity", -1e-6);
+  const auto message = error_of([&] { validate_parameters(list); });
+  EXPECT_NE(message.find("Kinematic Viscosity"), std::string::npos) << message;
+}
+
+TEST(Parameters, OutOfRangeIntegerIsNamed) {
+  auto list = minimal_scene();
+  list.sublist("Run").set("Max Steps", -5);
+  const auto message = error_of([&] { validate_parameters(list); });
+  EXPECT_NE(message.find("Max Steps"), std::string::npos) << message;
+}
+
+TEST(Parameters, WordOutsideTheChoicesIsNamed) {
+  auto list = minimal_scene();
+  list.sublist("Walls").set("Type", std::string("channnel"));
+  const auto message = error_of([&] { validate_parameters(list); });
+  EXPECT_NE(message.find("channnel"), std::string::npos) << message;
+}
+
+TEST(Parameters, MissingRequiredValueIsNamed) {
+  auto list = minimal_scene();
+  list.sublist("Discretization").remove("Particle Spacing");
+  const auto message = error_of([&] { validate_parameters(list); });
+  EXPECT_NE(message.find("Discretization/Particle Spacing"), std::string::npos) << message;
+}
+
+TEST(Parameters, ArrayLengthMustMatchTheDimension) {
+  auto list = minimal_scene();
+  list.sublist("Fluid").set("Body Force", array<double>({1.0, 0.0, 0.0}));
+  validate_parameters(list);
+  const auto message = error_of([&] { scene_from_parameters(list); });
+  EXPECT_NE(message.find("Fluid/Body Force"), std::string::npos) << message;
+}
+
+TEST(Parameters, ChannelNeedsANonPeriodicY) {
+  auto list = minimal_scene();
+  list.sublist("Walls").set("Type", std::string("channel"));
+  validate_parameters(list);
+  const auto message = error_of([&] { scene_from_parameters(list); });
+  EXPECT_NE(message.find("Domain/Periodic"), std::string::npos) << message;
+}
+
+TEST(Parameters, NonPeriodicDirectionWithoutWallsIsRefused) {
+  auto list = minimal_scene();
+  list.sublist("Domain").set("Periodic", array<int>({1, 0}));
+  validate_parameters(list);
+  EXPECT_FALSE(error_of([&] { scene_from_parameters(list); }).empty());
+}
+
+TEST(Parameters, SetOverridesKeepTheDeclaredType) {
+  auto list = minimal_scene();
+  apply_override(list, "Fluid/Kinematic Viscosity=2.5e-3");
+  apply_override(list, "Domain/Cell Size={2.0, 1.0}");
+  apply_override(list, "Run/Max Steps=7");
+  apply_override(list, "Scene/Name=override test");
+  validate_parameters(list);
+  const SceneConfig scene = scene_from_parameters(list);
+  EXPECT_EQ(scene.kinematic_viscosity, 2.5e-3);
+  EXPECT_EQ(scene.cell_size[0], 2.0);
+  EXPECT_EQ(scene.max_steps, 7);
+  EXPECT_EQ(scene.name, "override test");
+}
+
+TEST(Parameters, SetRejectsUnknownPathsAndBadValues) {
+  auto list = minimal_scene();
+  EXPECT_NE(error_of([&] { apply_override(list, "Fluid/Viscosity=1"); }).find("Fluid/Viscosity"), std::string::npos);
+  EXPECT_NE(error_of([&] { apply_override(list, "Flud/Density=1"); }).find("Flud"), std::string::npos);
+  EXPECT_NE(error_of([&] { apply_override(list, "Fluid/Density=heavy"); }).find("heavy"), std::string::npos);
+  EXPECT_NE(error_of([&] { apply_override(list, "Run/Max Steps=1.5"); }).find("integer"), std::string::npos);
+  EXPECT_FALSE(error_of([&] { apply_override(list, "Fluid/Density"); }).empty());
+}
+
+TEST(Parameters, CellSideMustHoldWholeSpacings) {
+  auto list = minimal_scene();
+  list.sublist("Discretization").set("Particle Spacing", 0.03);
+  validate_parameters(list);
+  const SceneConfig scene = scene_from_parameters(list);
+  try {
+    fill_lattice<2>(scene);
+    FAIL() << "no error for a cell side of 33.3 spacings";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("Particle Spacing"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Parameters, EveryParameterIsDocumented) {
+  std::ostringstream help;
+  print_valid_parameters(help);
+  for (const char* name : {"Cell Size", "Periodic", "Density", "Kinematic Viscosity", "Body Force",
+                           "Particle Spacing", "End Time", "Max Steps"})
+    EXPECT_NE(help.str().find(name), std::string::npos) << name;
+}
+
+}  // namespace
+}  // namespace poresph

@@ -68,7 +68,7 @@ double channel_profile_error(const Simulation<Dim, ExecSpace>& sim, const Channe
 }
 
 template <int Dim, class ExecSpace>
-JsonObject run(const SceneConfig& scene, const RunOptions& options) {
+RunReport run(const SceneConfig& scene, const RunOptions& options) {
   const auto setup_start = Clock::now();
   Simulation<Dim, ExecSpace> sim(scene);
   const double setup_seconds = seconds_since(setup_start);
@@ -80,8 +80,7 @@ JsonObject run(const SceneConfig& scene, const RunOptions& options) {
   std::vector<double> samples = scene.profile_sample_times;
   std::sort(samples.begin(), samples.end());
   size_t next_sample = 0;
-  std::vector<JsonObject> profile_samples;
-  double profile_error = 0.0;
+  RunReport report;
   std::ofstream profile_csv;
   if (channel) {
     profile_csv.open(options.output_dir + "/profiles.csv");
@@ -90,8 +89,8 @@ JsonObject run(const SceneConfig& scene, const RunOptions& options) {
   }
   auto sample_profile = [&](double sample_time) {
     const double e = channel_profile_error(sim, reference, sample_time, profile_csv);
-    profile_error = std::max(profile_error, e);
-    profile_samples.push_back(JsonObject().add("sample_time", sample_time).add("time", sim.time()).add("error", e));
+    report.profile_error = std::max(report.profile_error, e);
+    report.profile_samples.push_back({sample_time, sim.time(), e});
   };
 
   bool show_progress = scene.progress == ProgressMode::Always ||
@@ -114,36 +113,63 @@ JsonObject run(const SceneConfig& scene, const RunOptions& options) {
   if (channel) sample_profile(sim.time());
 
   const auto& derived = sim.derived();
-  const long long particle_steps = static_cast<long long>(sim.particles().owned) * sim.steps();
-  JsonObject summary;
-  summary.add("scene", scene.name)
-      .add("dimension", Dim)
-      .add("fluid_particles", sim.fluid_particles())
-      .add("boundary_particles", sim.boundary_particles())
-      .add("steps", sim.steps())
-      .add("simulated_time", sim.time())
-      .add("stopped_by", sim.steps() >= steps_to_end ? "end_time" : "max_steps")
-      .add("time_step", dt)
-      .add("smoothing_length", derived.smoothing_length)
-      .add("sound_speed", derived.sound_speed)
-      .add("wall_seconds", loop_seconds)
-      .add("setup_seconds", setup_seconds)
-      .add("particle_steps_per_second", loop_seconds > 0 ? particle_steps / loop_seconds : 0.0)
-      .add("ranks", 1)
-      .add("threads", ExecSpace::concurrency())
-      .add("backend", backend_name<ExecSpace>())
-      .add("max_density_variation", sim.max_density_variation());
-  if (channel) summary.add("profile_error", profile_error).add("profile_samples", profile_samples);
-  return summary;
+  report.scene = scene.name;
+  report.dimension = Dim;
+  report.fluid_particles = sim.fluid_particles();
+  report.boundary_particles = sim.boundary_particles();
+  report.steps = sim.steps();
+  report.simulated_time = sim.time();
+  report.stopped_by = sim.steps() >= steps_to_end ? "end_time" : "max_steps";
+  report.time_step = dt;
+  report.smoothing_length = derived.smoothing_length;
+  report.sound_speed = derived.sound_speed;
+  report.wall_seconds = loop_seconds;
+  report.setup_seconds = setup_seconds;
+  const double particle_steps = static_cast<double>(sim.particles().owned) * sim.steps();
+  report.particle_steps_per_second = loop_seconds > 0 ? particle_steps / loop_seconds : 0.0;
+  report.ranks = 1;
+  report.threads = ExecSpace::concurrency();
+  report.backend = backend_name<ExecSpace>();
+  report.max_density_variation = sim.max_density_variation();
+  report.channel = channel;
+  return report;
 }
 
 }  // namespace
 
-JsonObject run_scene(const SceneConfig& scene, const RunOptions& options) {
+JsonObject RunReport::to_json() const {
+  JsonObject json;
+  json.add("scene", scene)
+      .add("dimension", dimension)
+      .add("fluid_particles", fluid_particles)
+      .add("boundary_particles", boundary_particles)
+      .add("steps", steps)
+      .add("simulated_time", simulated_time)
+      .add("stopped_by", stopped_by)
+      .add("time_step", time_step)
+      .add("smoothing_length", smoothing_length)
+      .add("sound_speed", sound_speed)
+      .add("wall_seconds", wall_seconds)
+      .add("setup_seconds", setup_seconds)
+      .add("particle_steps_per_second", particle_steps_per_second)
+      .add("ranks", ranks)
+      .add("threads", threads)
+      .add("backend", backend)
+      .add("max_density_variation", max_density_variation);
+  if (channel) {
+    std::vector<JsonObject> samples;
+    for (const auto& s : profile_samples)
+      samples.push_back(JsonObject().add("sample_time", s.requested_time).add("time", s.time).add("error", s.error));
+    json.add("profile_error", profile_error).add("profile_samples", samples);
+  }
+  return json;
+}
+
+RunReport run_scene(const SceneConfig& scene, const RunOptions& options) {
   using Space = Kokkos::DefaultHostExecutionSpace;
-  JsonObject summary = scene.dimension == 2 ? run<2, Space>(scene, options) : run<3, Space>(scene, options);
-  write_file_atomically(options.output_dir + "/summary.json", summary.str() + "\n");
-  return summary;
+  const RunReport report = scene.dimension == 2 ? run<2, Space>(scene, options) : run<3, Space>(scene, options);
+  write_file_atomically(options.output_dir + "/summary.json", report.to_json().str() + "\n");
+  return report;
 }
 
 }  // namespace poresph

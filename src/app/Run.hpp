@@ -2,6 +2,7 @@
 // Runs a scene from start to end and reports it: the time loop, the
 // diagnostics sampled along the way, the progress line and summary.json.
 #include <string>
+#include <vector>
 
 #include "io/SceneConfig.hpp"
 #include "io/Summary.hpp"
@@ -13,8 +14,33 @@ struct RunOptions {
   bool progress_on_terminal = true;  // stdout is a terminal
 };
 
-// Runs the scene on the default host execution space and returns the
-// summary (also written to output_dir/summary.json).
-JsonObject run_scene(const SceneConfig& scene, const RunOptions& options);
+struct ProfileSample {
+  double requested_time;  // as asked in Diagnostics/Profile Sample Times (or the end)
+  double time;            // the step's time at which it was taken
+  double error;           // max |v_x - series| / v_max over fluid particles
+};
+
+// What a run measured; summary.json is this, serialised.
+struct RunReport {
+  std::string scene;
+  int dimension = 0;
+  int fluid_particles = 0, boundary_particles = 0;
+  long long steps = 0;
+  double simulated_time = 0, time_step = 0, smoothing_length = 0, sound_speed = 0;
+  std::string stopped_by;
+  double wall_seconds = 0, setup_seconds = 0, particle_steps_per_second = 0;
+  int ranks = 1, threads = 1;
+  std::string backend;
+  double max_density_variation = 0;
+  bool channel = false;
+  double profile_error = 0;
+  std::vector<ProfileSample> profile_samples;
+
+  JsonObject to_json() const;
+};
+
+// Runs the scene on the default host execution space; writes
+// output_dir/summary.json (and profiles.csv for channel scenes).
+RunReport run_scene(const SceneConfig& scene, const RunOptions& options);
 
 }  // namespace poresph

@@ -72,9 +72,9 @@ int run(const CommandLine& cl, int rank, int ranks) {
   std::filesystem::create_directories(options.output_dir);
   poresph::write_parameters_xml(*parameters, options.output_dir + "/parameters_used.xml");
 
-  const auto summary = poresph::run_scene(scene, options);
-  std::cout << "poresph: " << scene.name << " done; summary in " << options.output_dir << "/summary.json\n";
-  (void)summary;
+  const auto report = poresph::run_scene(scene, options);
+  std::cout << "poresph: " << scene.name << ": " << report.steps << " steps to t = " << report.simulated_time
+            << " s in " << report.wall_seconds << " s; summary in " << options.output_dir << "/summary.json\n";
   return 0;
 }
 

@@ -147,6 +147,25 @@ bool has_value(const ParameterList& list, const std::string& sublist, const std:
   return list.isSublist(sublist) && list.sublist(sublist).isParameter(name);
 }
 
+// Teuchos's number validators try to read a string entry as a number and
+// fail with a bare "stod": check every known entry's type ourselves first.
+void check_types(const ParameterList& list, const ParameterList& valid, const std::string& path) {
+  for (auto it = list.begin(); it != list.end(); ++it) {
+    const std::string& name = list.name(it);
+    if (!valid.isParameter(name)) continue;  // unknown names: Teuchos names them with the valid list
+    const auto& entry = list.entry(it);
+    const auto& expected = valid.getEntry(name);
+    if (entry.isList() && expected.isList()) {
+      check_types(list.sublist(name), valid.sublist(name), path + name + "/");
+    } else if (entry.isList() != expected.isList() || entry.getAny().type() != expected.getAny().type()) {
+      throw ParameterError("parameter " + path + name + " has type " +
+                           (entry.isList() ? std::string("ParameterList") : entry.getAny().typeName()) +
+                           ", expected " +
+                           (expected.isList() ? std::string("ParameterList") : expected.getAny().typeName()));
+    }
+  }
+}
+
 }  // namespace
 
 RCP<const ParameterList> valid_parameters() {
@@ -188,7 +207,15 @@ void apply_override(ParameterList& list, const std::string& assignment) {
 }
 
 void validate_parameters(ParameterList& list) {
-  // Teuchos has no notion of a required parameter: check those first.
+  // Names, types and ranges first, so that a misspelt required parameter is
+  // reported as the unknown name it is, with the valid names beside it.
+  check_types(list, *valid_parameters(), "");
+  try {
+    list.validateParameters(*valid_parameters());
+  } catch (const std::exception& e) {
+    throw ParameterError(std::string("invalid scene parameters:\n") + e.what());
+  }
+  // Teuchos has no notion of a required parameter.
   const std::pair<const char*, const char*> required[] = {{"Domain", "Cell Size"},
                                                           {"Fluid", "Kinematic Viscosity"},
                                                           {"Discretization", "Particle Spacing"},
@@ -197,11 +224,7 @@ void validate_parameters(ParameterList& list) {
     if (!has_value(list, group, name))
       throw ParameterError(std::string("missing required parameter ") + group + "/" + name +
                            " (see poresph --help-parameters)");
-  try {
-    list.validateParametersAndSetDefaults(*valid_parameters());
-  } catch (const std::exception& e) {
-    throw ParameterError(std::string("invalid scene parameters:\n") + e.what());
-  }
+  list.validateParametersAndSetDefaults(*valid_parameters());
 }
 
 RCP<ParameterList> read_parameters(const std::string& xml_file, const std::vector<std::string>& overrides) {
