@@ -8,6 +8,7 @@
 #include "Scenes.hpp"
 #include "TestSpaces.hpp"
 #include "app/Simulation.hpp"
+#include "physics/Density.hpp"
 
 namespace poresph {
 namespace {
@@ -87,13 +88,14 @@ TYPED_TEST(Conservation, PressureForcesConserveAngularMomentum) {
   Kokkos::deep_copy(P.x, x), Kokkos::deep_copy(P.v, v), Kokkos::deep_copy(P.rho, rho);
   Kokkos::deep_copy(P.m, m), Kokkos::deep_copy(P.kind, kind);
   const QuinticKernel<2> kernel(0.03);
-  Kokkos::parallel_for(
-      "test::eos", Kokkos::RangePolicy<Space>(space, 0, n), KOKKOS_LAMBDA(int i) { P.p(i) = 10.0 * P.rho(i); });
+  update_pressure(space, P, 10.0, 0.0);
   CellList<2, Space> cells;
   cells.build(space, P.x, n, Vec<2>{{0, 0}}, Vec<2>{{1, 1}}, kernel.cutoff);
+  NeighbourList<2, Space> neighbours;
+  neighbours.build(space, cells, P.x, n, kernel.cutoff);
 
   for (double nu : {0.0, 0.01}) {
-    compute_pair_rates(space, P, cells, kernel, FluidProperties{nu, 0.0, 0.0}, Vec<2>::zero());
+    compute_pair_rates(space, P, neighbours, kernel, FluidProperties{nu, 0.0}, Vec<2>::zero());
     auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt);
     double force[2] = {0, 0}, force_scale = 0, torque = 0, torque_scale = 0;
     for (int i = 0; i < n; ++i) {
@@ -109,6 +111,45 @@ TYPED_TEST(Conservation, PressureForcesConserveAngularMomentum) {
       EXPECT_LT(std::abs(torque), 1e-14 * torque_scale);
     }
   }
+}
+
+}  // namespace
+}  // namespace poresph
+
+namespace poresph {
+namespace {
+
+TYPED_TEST(Conservation, ResummationOnAnUndisturbedLatticeGivesTheReferenceDensity) {
+  SceneConfig scene = testing::periodic_box(2, 20);
+  scene.resummation_interval = 1;
+  scene.density = 1000;
+  Simulation<2, TypeParam> sim(scene);
+  sim.step();  // at rest: positions stay on the lattice, density is re-summed
+  auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sim.particles().rho);
+  for (int i = 0; i < sim.particles().owned; ++i) EXPECT_NEAR(rho(i), 1000.0, 1.0) << i;
+}
+
+// Keeping the neighbour list over several steps (skin) must not change the
+// trajectory beyond round-off compared with rebuilding it every evaluation.
+TYPED_TEST(Conservation, NeighbourSkinDoesNotChangeTheTrajectory) {
+  std::vector<double> positions[2];
+  long long rebuilds[2];
+  for (int run = 0; run < 2; ++run) {
+    SceneConfig scene = testing::periodic_box(2, 24);
+    scene.neighbour_skin = run == 0 ? 0.0 : 0.3;
+    scene.resummation_interval = 20;
+    Simulation<2, TypeParam> sim(scene);
+    testing::randomise_velocities(sim.particles(), 0.05, 11);
+    sim.compute_rates();
+    for (int s = 0; s < 150; ++s) sim.step();
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sim.particles().x);
+    for (int i = 0; i < sim.particles().owned; ++i)
+      for (int d = 0; d < 2; ++d) positions[run].push_back(PeriodicHalo<2, TypeParam>::wrap_coordinate(x(i, d), 0, 1));
+    rebuilds[run] = sim.neighbour_rebuilds();
+  }
+  EXPECT_GT(rebuilds[0], 5 * rebuilds[1]);  // the skin did save rebuilds
+  ASSERT_EQ(positions[0].size(), positions[1].size());
+  for (size_t k = 0; k < positions[0].size(); ++k) EXPECT_NEAR(positions[0][k], positions[1][k], 1e-12) << k;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "TestSpaces.hpp"
 #include "core/CellList.hpp"
+#include "core/NeighbourList.hpp"
 #include "core/Particles.hpp"
 #include "parallel/PeriodicHalo.hpp"
 
@@ -74,9 +75,13 @@ void compare_with_brute_force(const double (&side)[Dim], const std::array<bool, 
   CellList<Dim, Space> cells;
   cells.build(space, P.x, P.total(), search_lo, search_hi, cutoff);
 
+  // Both searches: the cells directly, and the Verlet list built from them.
+  NeighbourList<Dim, Space> list;
+  list.build(space, cells, P.x, n, cutoff);
   Kokkos::View<int*, typename Space::memory_space> count("count", n);
   const int capacity = 4 * n;
   Kokkos::View<int**, typename Space::memory_space> found("found", n, capacity);
+  Kokkos::View<int*, typename Space::memory_space> list_mismatch("list_mismatch", n);
   const auto x = P.x;
   const double cutoff_sq = cutoff * cutoff;
   Kokkos::parallel_for(
@@ -88,7 +93,14 @@ void compare_with_brute_force(const double (&side)[Dim], const std::array<bool, 
           if (count(i) < capacity) found(i, count(i)) = j;
           ++count(i);
         });
+        // The list holds the same neighbours in the same order.
+        int k = list.begin(i);
+        list_mismatch(i) = list.end(i) - list.begin(i) != count(i);
+        for (int c = 0; c < count(i) && c < capacity && !list_mismatch(i); ++c, ++k)
+          list_mismatch(i) = list.neighbour(k) != found(i, c);
       });
+  auto h_mismatch = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), list_mismatch);
+  for (int i = 0; i < n; ++i) EXPECT_EQ(h_mismatch(i), 0) << "Verlet list differs from the cell search at " << i;
   auto h_count = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), count);
   auto h_found = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), found);
   auto h_x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);

@@ -20,14 +20,15 @@ TEST(PairTerms, ContinuityRateByHand) {
 
 TEST(PairTerms, PressureAccelerationByHand) {
   // -m_b (p_a/rho_a^2 + p_b/rho_b^2) F r_ab = -2 (8/4 + 9/9) (-0.5) r = 3 r
-  const auto a = pressure_acceleration<2>(2.0, 8.0, 2.0, 9.0, 3.0, Vec<2>{{1.0, -2.0}}, -0.5);
+  EXPECT_DOUBLE_EQ(pressure_term(8.0, 2.0), 2.0);
+  const auto a = pressure_acceleration<2>(2.0, pressure_term(8.0, 2.0), pressure_term(9.0, 3.0), Vec<2>{{1.0, -2.0}}, -0.5);
   EXPECT_DOUBLE_EQ(a[0], 3.0);
   EXPECT_DOUBLE_EQ(a[1], -6.0);
 }
 
 TEST(PairTerms, ViscousAccelerationByHand) {
-  // m_b nu (rho_a + rho_b)/(rho_a rho_b) F v_ab = 2 * 0.1 * 5/6 * (-0.5) v
-  const auto a = viscous_acceleration<2>(2.0, 0.1, 2.0, 3.0, Vec<2>{{6.0, 0.0}}, -0.5);
+  // m_b nu (rho_a + rho_b)/(rho_a rho_b) F v_ab = 2 * 0.1 * 5/6 * (-0.5) v, rho_a = 2, rho_b = 3
+  const auto a = viscous_acceleration<2>(2.0, 0.1, 1.0 / 2.0, 1.0 / 3.0, Vec<2>{{6.0, 0.0}}, -0.5);
   EXPECT_NEAR(a[0], -0.5, 1e-15);
   EXPECT_EQ(a[1], 0.0);
 }
@@ -37,10 +38,11 @@ TEST(PairTerms, PairForcesAreAntisymmetric) {
   const double m_a = 1.3, m_b = 0.7, rho_a = 1.01, rho_b = 0.98, p_a = 2.0, p_b = 2.5, F = -0.37;
   const Vec<3> r_ab{{0.3, -0.1, 0.2}}, r_ba{{-0.3, 0.1, -0.2}};
   const Vec<3> v_ab{{0.01, 0.02, -0.03}}, v_ba{{-0.01, -0.02, 0.03}};
-  const auto f_ab = pressure_acceleration<3>(m_b, p_a, rho_a, p_b, rho_b, r_ab, F) +
-                    viscous_acceleration<3>(m_b, 0.01, rho_a, rho_b, v_ab, F);
-  const auto f_ba = pressure_acceleration<3>(m_a, p_b, rho_b, p_a, rho_a, r_ba, F) +
-                    viscous_acceleration<3>(m_a, 0.01, rho_b, rho_a, v_ba, F);
+  const double P_a = pressure_term(p_a, rho_a), P_b = pressure_term(p_b, rho_b);
+  const auto f_ab = pressure_acceleration<3>(m_b, P_a, P_b, r_ab, F) +
+                    viscous_acceleration<3>(m_b, 0.01, 1 / rho_a, 1 / rho_b, v_ab, F);
+  const auto f_ba = pressure_acceleration<3>(m_a, P_b, P_a, r_ba, F) +
+                    viscous_acceleration<3>(m_a, 0.01, 1 / rho_b, 1 / rho_a, v_ba, F);
   for (int d = 0; d < 3; ++d) EXPECT_NEAR(m_a * f_ab[d], -m_b * f_ba[d], 1e-15);
 }
 

@@ -6,12 +6,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
-#include <memory>
+#include <stdexcept>
 
 #include "app/Simulation.hpp"
 #include "core/ExecutionSpaces.hpp"
 #include "diagnostics/ChannelFlow.hpp"
+#include "diagnostics/SteadyState.hpp"
+#include "geometry/Grains.hpp"
 
 namespace poresph {
 namespace {
@@ -27,19 +30,20 @@ double seconds_since(Clock::time_point start) {
 class ProgressLine {
  public:
   explicit ProgressLine(bool enabled) : enabled_(enabled), start_(Clock::now()), last_(start_) {}
-  void update(long long step, double time, double fraction) {
+  void update(const char* label, long long step, double time, double fraction) {
     if (!enabled_) return;
     const auto now = Clock::now();
     if (std::chrono::duration<double>(now - last_).count() < 0.25) return;
     last_ = now;
     const double elapsed = seconds_since(start_);
     const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0.0;
-    std::printf("\rstep %lld  t = %.4e s  %5.1f %%  ETA %.0f s   ", step, time, 100 * fraction, eta);
+    std::printf("\r%sstep %lld  t = %.4e s  %5.1f %%  ETA %.0f s   ", label, step, time, 100 * fraction, eta);
     std::fflush(stdout);
     printed_ = true;
   }
   void finish() {
     if (printed_) std::printf("\n");
+    printed_ = false;
   }
 
  private:
@@ -67,20 +71,41 @@ double channel_profile_error(const Simulation<Dim, ExecSpace>& sim, const Channe
   return worst;
 }
 
+// The one axis a body force points along, or -1 if it has several components.
+int force_axis(const SceneConfig& scene) {
+  int axis = -1;
+  for (int d = 0; d < scene.dimension; ++d) {
+    if (scene.body_force[d] == 0) continue;
+    if (axis >= 0) return -1;
+    axis = d;
+  }
+  return axis;
+}
+
+// One run of the scene as given (drive_axis < 0) or with |F| along drive_axis.
 template <int Dim, class ExecSpace>
-RunReport run(const SceneConfig& scene, const RunOptions& options) {
+void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunReport& report) {
+  double force_norm = 0;
+  for (int d = 0; d < Dim; ++d) force_norm += scene.body_force[d] * scene.body_force[d];
+  force_norm = std::sqrt(force_norm);
+  if (drive_axis >= 0) {
+    scene.body_force = {0, 0, 0};
+    scene.body_force[drive_axis] = force_norm;
+  }
+  const int axis = force_axis(scene);
+
   const auto setup_start = Clock::now();
   Simulation<Dim, ExecSpace> sim(scene);
-  const double setup_seconds = seconds_since(setup_start);
+  report.setup_seconds += seconds_since(setup_start);
   const double dt = sim.time_step();
 
-  const bool channel = scene.walls == WallType::Channel;
+  // Channel start-up profiles (body force along x or moving walls).
+  const bool channel = scene.walls == WallType::Channel && drive_axis <= 0;
   const ChannelFlow reference{scene.cell_size[1], scene.kinematic_viscosity, scene.body_force[0],
                               scene.lower_wall_velocity, scene.upper_wall_velocity};
   std::vector<double> samples = scene.profile_sample_times;
   std::sort(samples.begin(), samples.end());
   size_t next_sample = 0;
-  RunReport report;
   std::ofstream profile_csv;
   if (channel) {
     profile_csv.open(options.output_dir + "/profiles.csv");
@@ -93,12 +118,40 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
     report.profile_samples.push_back({sample_time, sim.time(), e});
   };
 
-  bool show_progress = scene.progress == ProgressMode::Always ||
-                       (scene.progress == ProgressMode::Auto && options.progress_on_terminal);
+  // Permeability along the driving axis, checked at intervals of the steady-state window.
+  const bool measure_k = axis >= 0 && scene.kinematic_viscosity > 0;
+  const double window = scene.steady_window > 0 ? scene.steady_window : scene.end_time / 20;
+  SteadyStateDetector detector(window, scene.steady_tolerance);
+  const long long check_interval = std::clamp(static_cast<long long>(window / (20 * dt)), 1LL, 100LL);
+  bool steady = false;
+  auto permeability = [&](const Vec<Dim>& u, int i) { return scene.kinematic_viscosity * u[i] / force_norm; };
+  std::ofstream history;
+  if (measure_k) {
+    const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
+    history.open(options.output_dir + "/permeability_history" + suffix + ".csv");
+    history.precision(10);
+    history << "step,time";
+    for (int i = 0; i < Dim; ++i) history << ",k" << "xyz"[i] << "xyz"[axis];
+    history << ",relative_change\n";
+  }
+  auto check = [&]() {
+    report.particles_inside_grains = std::max(report.particles_inside_grains, sim.fluid_particles_inside_grains());
+    if (!measure_k) return;
+    const Vec<Dim> u = sim.superficial_velocity();
+    steady = detector.add(sim.time(), permeability(u, axis));
+    history << sim.steps() << ',' << sim.time();
+    for (int i = 0; i < Dim; ++i) history << ',' << permeability(u, i);
+    history << ',' << detector.relative_change() << '\n';
+  };
+
+  const bool show_progress = scene.progress == ProgressMode::Always ||
+                             (scene.progress == ProgressMode::Auto && options.progress_on_terminal);
   ProgressLine progress(show_progress);
+  const char* label = drive_axis == 0 ? "[F along x] " : drive_axis == 1 ? "[F along y] " : drive_axis == 2 ? "[F along z] " : "";
   // Steps are counted, not times summed: the run ends on the step nearest End Time.
   const long long steps_to_end = std::max(1LL, static_cast<long long>(std::llround(scene.end_time / dt)));
   const long long last_step = scene.max_steps > 0 ? std::min(steps_to_end, scene.max_steps) : steps_to_end;
+  const bool stop_when_steady = measure_k && scene.steady_tolerance > 0;
   const auto loop_start = Clock::now();
   while (sim.steps() < last_step) {
     sim.step();
@@ -106,32 +159,80 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
     // evaluated at the particles' own time, so no interpolation enters.
     while (channel && next_sample < samples.size() && sim.time() >= samples[next_sample] - 0.5 * dt)
       sample_profile(samples[next_sample++]);
-    progress.update(sim.steps(), sim.time(), static_cast<double>(sim.steps()) / last_step);
+    if (sim.steps() % check_interval == 0) {
+      check();
+      if (stop_when_steady && steady) break;
+    }
+    progress.update(label, sim.steps(), sim.time(), static_cast<double>(sim.steps()) / last_step);
   }
   const double loop_seconds = seconds_since(loop_start);
+  if (std::getenv("DUMP")) {
+    const auto& P = sim.particles();
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
+    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.v);
+    auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.rho);
+    auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
+    std::ofstream f(options.output_dir + "/particles.csv");
+    f << "x,y,vx,vy,rho,kind\n";
+    for (int i = 0; i < P.owned; ++i) f << x(i,0) << ',' << x(i,1) << ',' << v(i,0) << ',' << v(i,1) << ',' << rho(i) << ',' << kind(i) << '\n';
+  }
   progress.finish();
+  check();
   if (channel) sample_profile(sim.time());
 
   const auto& derived = sim.derived();
-  report.scene = scene.name;
   report.dimension = Dim;
   report.fluid_particles = sim.fluid_particles();
   report.boundary_particles = sim.boundary_particles();
-  report.steps = sim.steps();
-  report.simulated_time = sim.time();
-  report.stopped_by = sim.steps() >= steps_to_end ? "end_time" : "max_steps";
+  report.steps += sim.steps();
+  report.simulated_time += sim.time();
+  report.stopped_by = stop_when_steady && steady ? "steady_state"
+                      : sim.steps() >= steps_to_end ? "end_time"
+                                                    : "max_steps";
   report.time_step = dt;
   report.smoothing_length = derived.smoothing_length;
   report.sound_speed = derived.sound_speed;
-  report.wall_seconds = loop_seconds;
-  report.setup_seconds = setup_seconds;
-  const double particle_steps = static_cast<double>(sim.particles().owned) * sim.steps();
-  report.particle_steps_per_second = loop_seconds > 0 ? particle_steps / loop_seconds : 0.0;
-  report.ranks = 1;
+  report.wall_seconds += loop_seconds;
   report.threads = ExecSpace::concurrency();
   report.backend = backend_name<ExecSpace>();
-  report.max_density_variation = sim.max_density_variation();
-  report.channel = channel;
+  report.max_density_variation = std::max(report.max_density_variation, sim.max_density_variation());
+  report.neighbour_rebuilds += sim.neighbour_rebuilds();
+  report.neighbours_per_particle = static_cast<double>(sim.neighbour_pairs()) / sim.particles().owned;
+  report.channel = report.channel || channel;
+  if (measure_k) {
+    const Vec<Dim> u = sim.superficial_velocity();
+    const bool first = !report.has_permeability;
+    report.has_permeability = true;
+    report.driven[axis] = true;
+    for (int i = 0; i < Dim; ++i) {
+      report.permeability[i][axis] = permeability(u, i);
+      if (first) report.superficial_velocity[i] = u[i];
+    }
+    report.steady = (first || report.steady) && steady;
+    report.steady_relative_change = std::max(report.steady_relative_change, detector.relative_change());
+  }
+}
+
+template <int Dim, class ExecSpace>
+RunReport run(const SceneConfig& scene, const RunOptions& options) {
+  RunReport report;
+  report.scene = scene.name;
+  report.has_grains = !scene.grains.empty();
+  report.porosity = porosity(scene.grains, scene);
+  if (scene.permeability_tensor) {
+    for (int axis = 0; axis < Dim; ++axis) run_once<Dim, ExecSpace>(scene, axis, options, report);
+  } else {
+    run_once<Dim, ExecSpace>(scene, -1, options, report);
+  }
+  report.particle_steps_per_second =
+      report.wall_seconds > 0 ? (report.fluid_particles + report.boundary_particles) * report.steps / report.wall_seconds
+                              : 0.0;
+  if (report.has_grains && report.has_permeability) {
+    double speed = 0, diameter = 0;
+    for (int d = 0; d < Dim; ++d) speed += report.superficial_velocity[d] * report.superficial_velocity[d];
+    for (const auto& g : scene.grains) diameter += 2 * g.radius / scene.grains.size();
+    report.reynolds_number = std::sqrt(speed) / report.porosity * diameter / scene.kinematic_viscosity;
+  }
   return report;
 }
 
@@ -155,12 +256,31 @@ JsonObject RunReport::to_json() const {
       .add("ranks", ranks)
       .add("threads", threads)
       .add("backend", backend)
-      .add("max_density_variation", max_density_variation);
+      .add("max_density_variation", max_density_variation)
+      .add("neighbour_rebuilds", neighbour_rebuilds)
+      .add("neighbours_per_particle", neighbours_per_particle);
   if (channel) {
     std::vector<JsonObject> samples;
     for (const auto& s : profile_samples)
       samples.push_back(JsonObject().add("sample_time", s.requested_time).add("time", s.time).add("error", s.error));
     json.add("profile_error", profile_error).add("profile_samples", samples);
+  }
+  if (has_permeability) {
+    const char* axis = "xyz";
+    JsonObject k, u;
+    for (int j = 0; j < dimension; ++j)
+      if (driven[j])
+        for (int i = 0; i < dimension; ++i) k.add(std::string("k") + axis[i] + axis[j], permeability[i][j]);
+    for (int i = 0; i < dimension; ++i) u.add(std::string(1, axis[i]), superficial_velocity[i]);
+    json.add("permeability", k)
+        .add("superficial_velocity", u)
+        .add("steady", steady)
+        .add("steady_relative_change", steady_relative_change);
+  }
+  json.add("porosity", porosity);
+  if (has_grains) {
+    json.add("particles_inside_grains", particles_inside_grains);
+    if (has_permeability) json.add("reynolds_number", reynolds_number);
   }
   return json;
 }

@@ -32,9 +32,23 @@ struct RunReport {
   int ranks = 1, threads = 1;
   std::string backend;
   double max_density_variation = 0;
+  long long neighbour_rebuilds = 0;
+  double neighbours_per_particle = 0;  // listed pairs (support + skin) per owned particle
   bool channel = false;
   double profile_error = 0;
   std::vector<ProfileSample> profile_samples;
+
+  // Porous-media measures (present when the scene is driven by a body force).
+  bool has_permeability = false;
+  double permeability[3][3] = {};      // k[i][j] = nu <u_i> / F_j
+  bool driven[3] = {false, false, false};  // which columns j were driven
+  double superficial_velocity[3] = {};  // of the first driven run
+  bool steady = false;                  // every driven run reached the steady-state tolerance
+  double steady_relative_change = 0;    // of k over the last window (worst over runs)
+  bool has_grains = false;
+  double porosity = 1.0;
+  double reynolds_number = 0;           // mean pore velocity x mean grain diameter / nu
+  int particles_inside_grains = 0;      // most fluid particles found inside grains at any check
 
   JsonObject to_json() const;
 };

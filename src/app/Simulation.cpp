@@ -5,6 +5,8 @@
 #include <stdexcept>
 
 #include "core/ExecutionSpaces.hpp"
+#include "core/Math.hpp"
+#include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
 #include "physics/Density.hpp"
 #include "physics/PredictorCorrector.hpp"
@@ -60,10 +62,11 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     : scene_(scene),
       space_(space),
       derived_(derive_parameters(scene)),
-      particles_(scene.walls != WallType::None),
+      particles_(scene.walls != WallType::None || !scene.grains.empty(), scene.shifting_coefficient > 0),
       kernel_(derived_.smoothing_length) {
   if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
-  const double support = kernel_.cutoff;
+  skin_ = scene.neighbour_skin * derived_.smoothing_length;
+  const double support = kernel_.cutoff + skin_;  // ghosts and lists reach this far
   std::array<bool, Dim> periodic{};
   Vec<Dim> lo = Vec<Dim>::zero(), hi;
   for (int d = 0; d < Dim; ++d) {
@@ -74,10 +77,20 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     body_force_[d] = scene.body_force[d];
   }
   halo_ = PeriodicHalo<Dim, ExecSpace>(lo, hi, periodic, support);
-  fluid_ = FluidProperties{scene.kinematic_viscosity, std::sqrt(3.0) / 4.0 * scene.particle_spacing,
-                           scene.absolute_pressure_gradient
-                               ? 0.0
-                               : derived_.sound_speed * derived_.sound_speed * scene.density};
+  fluid_ = FluidProperties{scene.kinematic_viscosity, std::sqrt(3.0) / 4.0 * scene.particle_spacing};
+  reference_pressure_ =
+      (1.0 - scene.background_pressure) * derived_.sound_speed * derived_.sound_speed * scene.density;
+
+  shifting_ = ShiftingParameters{scene.shifting_coefficient, derived_.smoothing_length * derived_.time_step,
+                                 0.05 * scene.particle_spacing};
+  check_grains(scene.grains, scene);
+  grains_ = decltype(grains_)("grains", scene.grains.size());
+  auto grains = Kokkos::create_mirror_view(grains_);
+  for (size_t g = 0; g < scene.grains.size(); ++g) {
+    for (int d = 0; d < Dim; ++d) grains(g, d) = scene.grains[g].centre[d];
+    grains(g, Dim) = scene.grains[g].radius;
+  }
+  Kokkos::deep_copy(grains_, grains);
 
   const auto seeds = fill_lattice<Dim>(scene);
   load_seeds<Dim, ExecSpace>(seeds, scene.density, scene.particle_spacing, particles_);
@@ -86,16 +99,48 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
 }
 
 template <int Dim, class ExecSpace>
+bool Simulation<Dim, ExecSpace>::moved_beyond_skin() const {
+  if (!built_) return true;
+  const auto x = particles_.x;
+  const auto x0 = x_at_build_;
+  const double limit_sq = 0.25 * skin_ * skin_;
+  int moved = 0;
+  Kokkos::parallel_reduce(
+      "poresph::moved_beyond_skin", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      KOKKOS_LAMBDA(int i, int& count) {
+        double d_sq = 0;
+        for (int d = 0; d < Dim; ++d) d_sq += (x(i, d) - x0(i, d)) * (x(i, d) - x0(i, d));
+        count += d_sq > limit_sq;
+      },
+      moved);
+  return moved > 0;
+}
+
+template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
-  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed);
+  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_);
+  if (!moved_beyond_skin()) {
+    halo_.update(space_, particles_);
+    return;
+  }
+  // Positions stay unwrapped between builds so that ghosts and lists remain consistent.
+  halo_.wrap(space_, particles_);
   halo_.build(space_, particles_);
-  cells_.build(space_, particles_.x, particles_.total(), search_lo_, search_hi_, kernel_.cutoff);
+  cells_.build(space_, particles_.x, particles_.total(), search_lo_, search_hi_, kernel_.cutoff + skin_);
+  neighbours_.build(space_, cells_, particles_.x, particles_.owned, kernel_.cutoff + skin_);
+  const auto owned = std::make_pair(0, particles_.owned);
+  if (static_cast<int>(x_at_build_.extent(0)) < particles_.owned)
+    x_at_build_ = decltype(x_at_build_)("x_at_build", particles_.owned);
+  Kokkos::deep_copy(space_, Kokkos::subview(x_at_build_, owned, Kokkos::ALL),
+                    Kokkos::subview(particles_.x, owned, Kokkos::ALL));
+  built_ = true;
+  ++rebuilds_;
 }
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::compute_rates() {
   refresh_neighbourhood();
-  compute_pair_rates(space_, particles_, cells_, kernel_, fluid_, body_force_);
+  compute_pair_rates(space_, particles_, neighbours_, kernel_, fluid_, body_force_, shifting_);
   space_.fence();
 }
 
@@ -103,15 +148,14 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::step() {
   const double dt = derived_.time_step;
   predict_to_midpoint(space_, particles_, dt);
-  halo_.wrap(space_, particles_);
   compute_rates();
   correct_full_step(space_, particles_, dt);
-  halo_.wrap(space_, particles_);
+  if (particles_.has_shifting) apply_shifting(space_, particles_);
   ++steps_;
   time_ = steps_ * dt;  // not a running sum: no drift of the clock over 10^5 steps
   if (scene_.resummation_interval > 0 && steps_ % scene_.resummation_interval == 0) {
     refresh_neighbourhood();
-    resum_fluid_density(space_, particles_, cells_, kernel_);
+    resum_fluid_density(space_, particles_, neighbours_, kernel_);
   }
   space_.fence();
 }
@@ -131,6 +175,59 @@ double Simulation<Dim, ExecSpace>::max_density_variation() const {
       },
       Kokkos::Max<double>(variation));
   return variation;
+}
+
+template <int Dim, class ExecSpace>
+Vec<Dim> Simulation<Dim, ExecSpace>::superficial_velocity() const {
+  const auto v = particles_.v;
+  const auto m = particles_.m, rho = particles_.rho;
+  const auto kind = particles_.kind;
+  double volume = 1.0;
+  for (int d = 0; d < Dim; ++d) volume *= scene_.cell_size[d];
+  Vec<Dim> result;
+  for (int d = 0; d < Dim; ++d) {
+    double flux = 0.0;
+    Kokkos::parallel_reduce(
+        "poresph::superficial_velocity", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+        KOKKOS_LAMBDA(int i, double& sum) {
+          if (kind(i) == kFluid) sum += m(i) / rho(i) * v(i, d);
+        },
+        flux);
+    result[d] = flux / volume;
+  }
+  return result;
+}
+
+template <int Dim, class ExecSpace>
+int Simulation<Dim, ExecSpace>::fluid_particles_inside_grains() const {
+  if (grains_.extent(0) == 0) return 0;
+  const auto x = particles_.x;
+  const auto kind = particles_.kind;
+  const auto grains = grains_;
+  const int ngrains = static_cast<int>(grains_.extent(0));
+  double side[Dim];
+  bool periodic[Dim];
+  for (int d = 0; d < Dim; ++d) side[d] = scene_.cell_size[d], periodic[d] = scene_.periodic[d];
+  int inside = 0;
+  Kokkos::parallel_reduce(
+      "poresph::fluid_particles_inside_grains", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      KOKKOS_LAMBDA(int i, int& count) {
+        if (kind(i) != kFluid) return;
+        for (int g = 0; g < ngrains; ++g) {
+          double dist_sq = 0;
+          for (int d = 0; d < Dim; ++d) {
+            double r = x(i, d) - grains(g, d);
+            if (periodic[d]) r -= side[d] * math::floor(r / side[d] + 0.5);  // nearest image
+            dist_sq += r * r;
+          }
+          if (dist_sq < grains(g, Dim) * grains(g, Dim)) {
+            ++count;
+            return;
+          }
+        }
+      },
+      inside);
+  return inside;
 }
 
 #define PORESPH_INSTANTIATE(SPACE)       \

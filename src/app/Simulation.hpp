@@ -7,6 +7,7 @@
 #include <array>
 
 #include "core/CellList.hpp"
+#include "core/NeighbourList.hpp"
 #include "core/Kernel.hpp"
 #include "core/Particles.hpp"
 #include "core/Vec.hpp"
@@ -51,14 +52,25 @@ class Simulation {
   const ParticleSet& particles() const { return particles_; }
   const ExecSpace& space() const { return space_; }
 
+  // Neighbour-list rebuilds so far (the list is kept while particles move less than half the skin).
+  long long neighbour_rebuilds() const { return rebuilds_; }
+  long long neighbour_pairs() const { return neighbours_.pairs(); }
+
   int fluid_particles() const { return fluid_count_; }
   int boundary_particles() const { return particles_.owned - fluid_count_; }
   // max |rho/rho0 - 1| over fluid particles.
   double max_density_variation() const;
+  // Darcy's superficial velocity <u> = (1/V_cell) sum over fluid of (m/rho) v.
+  Vec<Dim> superficial_velocity() const;
+  // Fluid particles whose position lies inside a grain (0 in a correct run).
+  int fluid_particles_inside_grains() const;
 
  private:
-  // Pressure of owned particles, then ghosts and the cell list at the current positions.
+  // Pressure of owned particles, then ghosts at the current positions: a
+  // fresh halo, cell list and neighbour list if some particle moved more than
+  // half the skin since the last build, otherwise the ghosts updated in place.
   void refresh_neighbourhood();
+  bool moved_beyond_skin() const;
 
   SceneConfig scene_;
   ExecSpace space_;
@@ -67,9 +79,21 @@ class Simulation {
   QuinticKernel<Dim> kernel_;
   PeriodicHalo<Dim, ExecSpace> halo_;
   CellList<Dim, ExecSpace> cells_;
+  NeighbourList<Dim, ExecSpace> neighbours_;
+  double skin_ = 0.0;
+  typename ParticleSet::Vector x_at_build_;  // owned positions when the list was built
+  bool built_ = false;
+  long long rebuilds_ = 0;
   Vec<Dim> search_lo_, search_hi_;  // cell extended by the support: where ghosts and walls live
   Vec<Dim> body_force_;
+  Kokkos::View<double* [Dim + 1], MemorySpace> grains_;  // centre, radius
   FluidProperties fluid_;
+  ShiftingParameters shifting_;
+  // Subtracted from p = c^2 rho in the momentum equation. A uniform pressure
+  // has no gradient, but through the SPH gradient of a sheared or disordered
+  // particle arrangement it exerts spurious forces proportional to itself
+  // (docs/validation.md): (1 - background) c^2 rho0.
+  double reference_pressure_ = 0.0;
   int fluid_count_ = 0;
   double time_ = 0.0;
   long long steps_ = 0;

@@ -63,7 +63,8 @@ int run(const CommandLine& cl, int rank, int ranks) {
   }
   if (cl.scene_file.empty()) throw poresph::ParameterError(std::string("no scene file given\n") + kUsage);
   auto parameters = poresph::read_parameters(cl.scene_file, cl.overrides);
-  const poresph::SceneConfig scene = poresph::scene_from_parameters(*parameters);
+  const poresph::SceneConfig scene = poresph::scene_from_parameters(
+      *parameters, std::filesystem::absolute(cl.scene_file).parent_path().string());
   if (ranks != 1) throw std::runtime_error("this version of PoreSPH runs on one MPI rank; got " + std::to_string(ranks));
 
   poresph::RunOptions options;

@@ -24,6 +24,9 @@ struct Particles {
   // State.
   Vector x, v;
   Scalar rho, p, m;
+  // Derived from rho before each force evaluation, so that the pair loop
+  // divides once per pair instead of three times: (p - p_ref)/rho^2 and 1/rho.
+  Scalar pressure_term, inverse_density;
   Kokkos::View<int*, MemorySpace> kind;
   Kokkos::View<long long*, MemorySpace> id;
   // Start-of-step state and rates for the predictor-corrector (owned slots).
@@ -32,15 +35,20 @@ struct Particles {
   // Surface of each boundary particle; empty in a scene without walls or grains.
   Vector wall_vector;
   Scalar wall_scalar;
+  // Particle shifting (owned slots): displacement towards uniform spacing and
+  // the velocity change that carries the field along; empty when not enabled.
+  Vector shift, shift_velocity;
 
   int owned = 0;
   int ghosts = 0;
   bool has_surfaces = false;
+  bool has_shifting = false;
 
   int total() const { return owned + ghosts; }
   int capacity() const { return static_cast<int>(x.extent(0)); }
 
-  explicit Particles(bool with_surfaces = false) : has_surfaces(with_surfaces) {}
+  explicit Particles(bool with_surfaces = false, bool with_shifting = false)
+      : has_surfaces(with_surfaces), has_shifting(with_shifting) {}
 
   // Grows every View to at least n slots, keeping contents; grows by 25 %
   // beyond n so that repeated ghost rebuilds do not reallocate every step.
@@ -52,10 +60,12 @@ struct Particles {
       else Kokkos::resize(view, cap);
     };
     grow(x, "x"); grow(v, "v"); grow(rho, "rho"); grow(p, "p"); grow(m, "m");
+    grow(pressure_term, "pressure_term"); grow(inverse_density, "inverse_density");
     grow(kind, "kind"); grow(id, "id");
     grow(x_start, "x_start"); grow(v_start, "v_start"); grow(dvdt, "dvdt");
     grow(rho_start, "rho_start"); grow(drhodt, "drhodt");
     if (has_surfaces) { grow(wall_vector, "wall_vector"); grow(wall_scalar, "wall_scalar"); }
+    if (has_shifting) { grow(shift, "shift"); grow(shift_velocity, "shift_velocity"); }
   }
 };
 
@@ -71,6 +81,8 @@ KOKKOS_INLINE_FUNCTION void copy_as_ghost(const Particles<Dim, MemorySpace>& P, 
   }
   P.rho(to) = P.rho(from);
   P.p(to) = P.p(from);
+  P.pressure_term(to) = P.pressure_term(from);
+  P.inverse_density(to) = P.inverse_density(from);
   P.m(to) = P.m(from);
   P.kind(to) = P.kind(from);
   P.id(to) = P.id(from);

@@ -1,8 +1,8 @@
 #pragma once
 // Initial particles on the square (cubic) lattice of spacing dx, points at
-// (i + 1/2) dx. Fluid fills the cell; plane channel walls add boundary layers
-// 3h thick below y = 0 and above y = L_y. Particle ids come from the lattice
-// index, so whoever generates a particle gives it the same id.
+// (i + 1/2) dx. Fluid fills the cell outside the grains; grains and plane
+// channel walls get boundary particles 3h deep. Particle ids come from the
+// lattice index, so whoever generates a particle gives it the same id.
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -44,22 +44,82 @@ inline int boundary_layers(double dx, double h) {
   return static_cast<int>(std::floor(kSupportRadiusInH * h / dx - 0.5 + 1e-9)) + 1;
 }
 
+// Fills the lattice: fluid wherever a point is outside every grain; boundary
+// particles in each grain's shell r - 3h <= |x - c| <= r and in the channel
+// walls; nothing deeper inside a grain. Grains are scanned over their
+// bounding boxes (periodically wrapped), so the cost grows with the solid
+// volume, not with grains x lattice points.
 template <int Dim>
 std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
   const double dx = scene.particle_spacing;
   const double h = scene.smoothing_length_ratio * dx;
+  const double shell = kSupportRadiusInH * h;
   std::array<int, Dim> first{}, count{};
   for (int d = 0; d < Dim; ++d) count[d] = lattice_points_across(scene.cell_size[d], dx, d);
   const bool channel = scene.walls == WallType::Channel;
+  const int fluid_rows = count[1];
   if (channel) {
     const int layers = boundary_layers(dx, h);
     first[1] = -layers;
     count[1] += 2 * layers;
   }
-  const int fluid_rows = lattice_points_across(scene.cell_size[1], dx, 1);
-
   long long total = 1;
   for (int d = 0; d < Dim; ++d) total *= count[d];
+  auto flat_index = [&](const int (&index)[Dim]) {
+    long long k = 0;
+    for (int d = Dim - 1; d >= 0; --d) k = k * count[d] + (index[d] - first[d]);
+    return k;
+  };
+
+  // Grain shells: for each lattice point the grain whose surface is nearest
+  // (overlapping grains), or "deep" if it lies beyond the shell of any grain.
+  constexpr int kNone = -1, kDeep = -2;
+  std::vector<int> owner(scene.grains.empty() ? 0 : total, kNone);
+  std::vector<double> depth(owner.size(), 0.0);
+  std::vector<std::array<double, Dim>> offset(owner.size());
+  for (int g = 0; g < static_cast<int>(scene.grains.size()); ++g) {
+    const Grain& grain = scene.grains[g];
+    int lo[Dim], hi[Dim];
+    long long box = 1;
+    for (int d = 0; d < Dim; ++d) {
+      lo[d] = static_cast<int>(std::floor((grain.centre[d] - grain.radius) / dx - 0.5));
+      hi[d] = static_cast<int>(std::ceil((grain.centre[d] + grain.radius) / dx - 0.5));
+      box *= hi[d] - lo[d] + 1;
+    }
+    for (long long b = 0; b < box; ++b) {
+      int unwrapped[Dim], index[Dim];
+      long long rest = b;
+      bool inside_lattice = true;
+      double dist_sq = 0;
+      std::array<double, Dim> from_centre{};
+      for (int d = 0; d < Dim; ++d) {
+        const int span = hi[d] - lo[d] + 1;
+        unwrapped[d] = lo[d] + static_cast<int>(rest % span);
+        rest /= span;
+        from_centre[d] = (unwrapped[d] + 0.5) * dx - grain.centre[d];
+        dist_sq += from_centre[d] * from_centre[d];
+        if (scene.periodic[d]) {
+          const int n = count[d];
+          index[d] = ((unwrapped[d] % n) + n) % n;
+        } else {
+          index[d] = unwrapped[d];
+          inside_lattice = inside_lattice && index[d] >= first[d] && index[d] < first[d] + count[d];
+        }
+      }
+      if (!inside_lattice) continue;
+      const double dist = std::sqrt(dist_sq);
+      if (dist > grain.radius) continue;
+      const long long k = flat_index(index);
+      const double below_surface = grain.radius - dist;
+      if (below_surface > shell) owner[k] = kDeep;
+      else if (owner[k] != kDeep && (owner[k] == kNone || below_surface < depth[k])) {
+        owner[k] = g;
+        depth[k] = below_surface;
+        offset[k] = from_centre;
+      }
+    }
+  }
+
   std::vector<SeedParticle<Dim>> seeds;
   seeds.reserve(static_cast<size_t>(total));
   for (long long flat = 0; flat < total; ++flat) {
@@ -79,6 +139,12 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
       s.wall_vector[1] = lower ? 1.0 : -1.0;
       s.wall_scalar = lower ? -s.x[1] : s.x[1] - scene.cell_size[1];
       s.v[0] = lower ? scene.lower_wall_velocity : scene.upper_wall_velocity;
+    } else if (!owner.empty() && owner[flat] == kDeep) {
+      continue;
+    } else if (!owner.empty() && owner[flat] >= 0) {
+      s.kind = kGrainBoundary;
+      for (int d = 0; d < Dim; ++d) s.wall_vector[d] = offset[flat][d];
+      s.wall_scalar = scene.grains[owner[flat]].radius;
     }
     seeds.push_back(s);
   }

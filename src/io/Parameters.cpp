@@ -1,5 +1,7 @@
 #include "io/Parameters.hpp"
 
+#include "geometry/Grains.hpp"
+
 #include <Teuchos_Array.hpp>
 #include <Teuchos_StandardParameterEntryValidators.hpp>
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
@@ -63,12 +65,13 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Velocity Scale", 0.0,
           "V for the sound-speed rule (m/s). 0: the larger of the wall speeds and |F| L^2/(8 nu).",
           real_in(0.0, kHuge));
-    s.set("Pressure Gradient", std::string("gauge"),
-          "Pressure in the momentum equation. 'gauge': p - c^2 rho0 (default); 'absolute': p = c^2 rho as "
-          "printed in Morris et al. 1999. A uniform pressure has no gradient, but through the SPH gradient of a "
-          "slowly sheared particle lattice it exerts a spurious shear stress proportional to itself; with "
-          "'absolute' the steady Poiseuille profile is off by several percent (docs/validation.md).",
-          one_of({"gauge", "absolute"}));
+    s.set("Background Pressure", 0.0,
+          "Fraction beta of c^2 rho0 kept in the momentum equation, which sees p - (1 - beta) c^2 rho0. "
+          "1: p = c^2 rho itself, as printed in Morris et al. 1999. A uniform pressure has no gradient, but "
+          "through the SPH gradient of a disordered or sheared particle arrangement it exerts spurious forces "
+          "proportional to itself (docs/validation.md); a small beta keeps the pressure positive where the "
+          "fluid is rarefied, which prevents clumping.",
+          real_in(0.0, 1.0));
     s.set("Length Scale", 0.0, "L for the sound-speed rule (m). 0: the largest cell side.", real_in(0.0, kHuge));
   }
   {
@@ -78,6 +81,15 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Smoothing Length Ratio", 1.0, "h / dx of the quintic kernel (support 3h).", real_in(0.5, 3.0));
     s.set("Density Resummation Interval", 0,
           "Re-initialise fluid density by summation every this many steps; 0 = never.", int_in(0, 1 << 30));
+    s.set("Neighbour Skin", 0.2,
+          "Verlet skin in units of h: neighbour lists hold pairs within 3h + skin and are rebuilt once some "
+          "particle has moved half the skin. 0 = rebuild every evaluation.",
+          real_in(0.0, 3.0));
+    s.set("Particle Shifting", 0.0,
+          "Particle shifting coefficient A (Lind et al. 2012): each step fluid particles move by "
+          "-A h |v| dt grad C towards uniform spacing (at most 0.05 dx), velocities corrected to first order. "
+          "0 = off. Around 1-2 for long runs past grains (docs/validation.md).",
+          real_in(0.0, 100.0));
     s.set("Time Step", 0.0,
           "Fixed time step (s). 0: min(0.25 h/c, 0.125 h^2/nu, 0.25 sqrt(h/|F|)). A larger value is refused.",
           real_in(0.0, kHuge));
@@ -90,6 +102,27 @@ RCP<ParameterList> make_valid_parameters() {
           one_of({"none", "channel"}));
     s.set("Lower Velocity", 0.0, "x velocity of the wall at y = 0 (m/s).", real_in(-kHuge, kHuge));
     s.set("Upper Velocity", 0.0, "x velocity of the wall at y = L_y (m/s).", real_in(-kHuge, kHuge));
+  }
+  {
+    auto& s = list->sublist("Grains", false, "Soil grains: circles in 2D, spheres in 3D. They may cross the periodic "
+                                             "boundary and then act on both sides.");
+    s.set("File", std::string(""),
+          "Text file of grains, one a line: 'cx cy r' (2D) or 'cx cy cz r' (3D), '#' comments. A relative path is "
+          "relative to the scene file's folder.");
+    s.set("Inline", Array<double>(), "Grains in the XML: cx, cy, r, cx, cy, r, ... (cx, cy, cz, r in 3D).",
+          reals_in(-kHuge, kHuge));
+    s.set("Allow Overlap", false, "Accept overlapping grains; otherwise an overlap is an error naming them.");
+  }
+  {
+    auto& s = list->sublist("Permeability", false,
+                            "Darcy permeability k_ij = nu <u_i> / F_j, <u> the superficial velocity.");
+    s.set("Tensor", false,
+          "Drive each direction in turn with |Fluid/Body Force| and report the full tensor; otherwise drive "
+          "along the body force (which must lie along one axis) and report that column.");
+    s.set("Steady Tolerance", 0.0,
+          "Stop once k changed by less than this (relative) over the last Steady Window; 0 = run to End Time.",
+          real_in(0.0, 1.0));
+    s.set("Steady Window", 0.0, "Time window (s) of the steady-state test; 0 = End Time / 20.", real_in(0.0, kHuge));
   }
   {
     auto& s = list->sublist("Run", false, "How long to run.");
@@ -201,6 +234,11 @@ void apply_override(ParameterList& list, const std::string& assignment) {
   if (entry.isType<double>()) target->set(name, parse_number<double>(text, path));
   else if (entry.isType<int>()) target->set(name, parse_number<int>(text, path));
   else if (entry.isType<std::string>()) target->set(name, text);
+  else if (entry.isType<bool>()) {
+    if (text == "true" || text == "1") target->set(name, true);
+    else if (text == "false" || text == "0") target->set(name, false);
+    else throw ParameterError("--set " + path + ": '" + text + "' is not true or false");
+  }
   else if (entry.isType<Array<double>>()) target->set(name, parse_array<double>(text, path));
   else if (entry.isType<Array<int>>()) target->set(name, parse_array<int>(text, path));
   else throw ParameterError("--set " + path + ": this parameter cannot be set from the command line");
@@ -239,7 +277,7 @@ RCP<ParameterList> read_parameters(const std::string& xml_file, const std::vecto
   return list;
 }
 
-SceneConfig scene_from_parameters(const ParameterList& list) {
+SceneConfig scene_from_parameters(const ParameterList& list, const std::string& scene_directory) {
   SceneConfig scene;
   auto fail = [](const std::string& msg) { throw ParameterError(msg); };
   scene.name = list.sublist("Scene").get<std::string>("Name");
@@ -271,7 +309,7 @@ SceneConfig scene_from_parameters(const ParameterList& list) {
   scene.density_variation = fluid.get<double>("Density Variation");
   scene.velocity_scale = fluid.get<double>("Velocity Scale");
   scene.length_scale = fluid.get<double>("Length Scale");
-  scene.absolute_pressure_gradient = fluid.get<std::string>("Pressure Gradient") == "absolute";
+  scene.background_pressure = fluid.get<double>("Background Pressure");
 
   const auto& disc = list.sublist("Discretization");
   scene.particle_spacing = disc.get<double>("Particle Spacing");
@@ -279,6 +317,8 @@ SceneConfig scene_from_parameters(const ParameterList& list) {
   scene.smoothing_length_ratio = disc.get<double>("Smoothing Length Ratio");
   scene.resummation_interval = disc.get<int>("Density Resummation Interval");
   scene.time_step = disc.get<double>("Time Step");
+  scene.shifting_coefficient = disc.get<double>("Particle Shifting");
+  scene.neighbour_skin = disc.get<double>("Neighbour Skin");
 
   const auto& walls = list.sublist("Walls");
   const auto wall_type = walls.get<std::string>("Type");
@@ -304,6 +344,27 @@ SceneConfig scene_from_parameters(const ParameterList& list) {
   scene.progress = progress == "always" ? ProgressMode::Always
                    : progress == "never" ? ProgressMode::Never
                                          : ProgressMode::Auto;
+
+  const auto& grains = list.sublist("Grains");
+  try {
+    std::string file = grains.get<std::string>("File");
+    if (!file.empty()) {
+      if (file[0] != '/' && !scene_directory.empty()) file = scene_directory + "/" + file;
+      scene.grains = read_grain_file(file, dim);
+    }
+    const auto inline_values = grains.get<Array<double>>("Inline");
+    const auto listed = grains_from_list(std::vector<double>(inline_values.begin(), inline_values.end()), dim);
+    scene.grains.insert(scene.grains.end(), listed.begin(), listed.end());
+    scene.allow_overlapping_grains = grains.get<bool>("Allow Overlap");
+    check_grains(scene.grains, scene);
+  } catch (const std::invalid_argument& e) {
+    throw ParameterError(e.what());
+  }
+
+  const auto& permeability = list.sublist("Permeability");
+  scene.permeability_tensor = permeability.get<bool>("Tensor");
+  scene.steady_tolerance = permeability.get<double>("Steady Tolerance");
+  scene.steady_window = permeability.get<double>("Steady Window");
 
   const auto samples = list.sublist("Diagnostics").get<Array<double>>("Profile Sample Times");
   scene.profile_sample_times.assign(samples.begin(), samples.end());

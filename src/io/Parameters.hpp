@@ -37,8 +37,9 @@ Teuchos::RCP<Teuchos::ParameterList> read_parameters(const std::string& xml_file
 void validate_parameters(Teuchos::ParameterList& list);
 
 // The validated list as the solver's plain configuration; also checks what
-// depends on several parameters at once (array lengths, walls vs periodicity).
-SceneConfig scene_from_parameters(const Teuchos::ParameterList& list);
+// depends on several parameters at once (array lengths, walls vs periodicity,
+// grains). Relative file names are taken from `scene_directory`.
+SceneConfig scene_from_parameters(const Teuchos::ParameterList& list, const std::string& scene_directory = "");
 
 void write_parameters_xml(const Teuchos::ParameterList& list, const std::string& file);
 

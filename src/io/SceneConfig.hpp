@@ -8,6 +8,13 @@
 namespace poresph {
 
 enum class WallType { None, Channel };
+
+// A soil grain: circle (2D) or sphere (3D); centre uses the first `dimension` values.
+struct Grain {
+  std::array<double, 3> centre{};
+  double radius = 0;
+  std::string origin;  // where it was defined, for messages: "grains.txt:12", "Grains/Inline #3"
+};
 enum class ProgressMode { Auto, Always, Never };
 
 struct SceneConfig {
@@ -23,12 +30,18 @@ struct SceneConfig {
   double density_variation = 0.01;
   double velocity_scale = 0.0;  // 0: estimated (see Parameters.cpp)
   double length_scale = 0.0;    // 0: largest cell side
-  bool absolute_pressure_gradient = false;  // true: momentum equation uses p = c^2 rho itself
+  double background_pressure = 0.0;  // fraction of c^2 rho0 the momentum equation keeps (1: p = c^2 rho)
 
   double particle_spacing = 0.0;
   double smoothing_length_ratio = 1.0;  // h / dx
   int resummation_interval = 0;         // steps; 0 = never
   double time_step = 0.0;               // 0: from the stability limits
+  double shifting_coefficient = 0.0;    // particle shifting A; 0 = off
+  double neighbour_skin = 0.2;          // Verlet skin in units of h
+
+  // Empty: no grains, and none of their machinery runs.
+  std::vector<Grain> grains;
+  bool allow_overlapping_grains = false;
 
   WallType walls = WallType::None;
   double lower_wall_velocity = 0.0;  // along x
@@ -39,6 +52,11 @@ struct SceneConfig {
   std::vector<double> profile_sample_times;
 
   ProgressMode progress = ProgressMode::Auto;
+
+  // Permeability: drive every direction in turn (full tensor) or only along the body force.
+  bool permeability_tensor = false;
+  double steady_tolerance = 0.0;  // relative change of k over the window; 0 = run to the end
+  double steady_window = 0.0;     // s; 0 = End Time / 20
 };
 
 }  // namespace poresph

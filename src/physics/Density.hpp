@@ -2,7 +2,7 @@
 // Equation of state and density re-initialisation by summation.
 #include <Kokkos_Core.hpp>
 
-#include "core/CellList.hpp"
+#include "core/NeighbourList.hpp"
 #include "core/Kernel.hpp"
 #include "core/Math.hpp"
 #include "core/Particles.hpp"
@@ -10,13 +10,17 @@
 
 namespace poresph {
 
+// p = c^2 rho, and the factors the pair loop needs: (p - p_ref)/rho^2 and 1/rho.
 template <int Dim, class ExecSpace>
 void update_pressure(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                     double sound_speed_sq) {
-  const auto rho = P.rho, p = P.p;
+                     double sound_speed_sq, double reference_pressure) {
+  const auto rho = P.rho, p = P.p, term = P.pressure_term, inverse = P.inverse_density;
   Kokkos::parallel_for(
-      "poresph::update_pressure", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
-      KOKKOS_LAMBDA(int i) { p(i) = pressure_from_density(rho(i), sound_speed_sq); });
+      "poresph::update_pressure", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+        p(i) = pressure_from_density(rho(i), sound_speed_sq);
+        term(i) = pressure_term(p(i) - reference_pressure, rho(i));
+        inverse(i) = 1.0 / rho(i);
+      });
 }
 
 // rho_a = sum_b m_b W_ab (self included) for fluid particles. Boundary
@@ -24,7 +28,7 @@ void update_pressure(const ExecSpace& space, const Particles<Dim, typename ExecS
 // holds no particles, so a sum would be deficient there.
 template <int Dim, class ExecSpace>
 void resum_fluid_density(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                         const CellList<Dim, ExecSpace>& cells, const QuinticKernel<Dim>& kernel) {
+                         const NeighbourList<Dim, ExecSpace>& neighbours, const QuinticKernel<Dim>& kernel) {
   const auto x = P.x, m = P.m, rho = P.rho;
   const auto kind = P.kind;
   Kokkos::parallel_for(
@@ -32,12 +36,13 @@ void resum_fluid_density(const ExecSpace& space, const Particles<Dim, typename E
       KOKKOS_LAMBDA(int a) {
         if (kind(a) != kFluid) return;
         const Vec<Dim> x_a = row<Dim>(x, a);
-        double sum = 0.0;
-        cells.for_each_candidate(x_a, [&](int b) {
+        double sum = m(a) * kernel.value(0.0);  // the list leaves out the particle itself
+        for (int k = neighbours.begin(a); k < neighbours.end(a); ++k) {
+          const int b = neighbours.neighbour(k);
           const Vec<Dim> r_ab = x_a - row<Dim>(x, b);
           const double r_sq = dot(r_ab, r_ab);
           if (r_sq < kernel.cutoff_sq) sum += m(b) * kernel.value(math::sqrt(r_sq));
-        });
+        }
         rho(a) = sum;
       });
 }

@@ -6,7 +6,7 @@
 // race and no scatter-add is needed.
 #include <Kokkos_Core.hpp>
 
-#include "core/CellList.hpp"
+#include "core/NeighbourList.hpp"
 #include "core/Kernel.hpp"
 #include "core/Math.hpp"
 #include "core/Particles.hpp"
@@ -16,44 +16,59 @@
 
 namespace poresph {
 
+// Particle shifting (Lind et al. 2012): each step a fluid particle moves by
+// dr = -A h |v| dt grad C, C = sum_b (m_b/rho_b) W_ab its concentration,
+// capped at a fraction of dx, and its velocity follows by v += (grad v) dr.
+struct ShiftingParameters {
+  double coefficient = 0;  // A; 0 = off
+  double h_dt = 0;         // h * dt
+  double max_shift = 0;    // cap on |dr|
+};
+
 struct FluidProperties {
   double kinematic_viscosity;
   double min_surface_distance;  // lower bound of d_a in the no-slip extrapolation
-  // Subtracted from p = c^2 rho in the momentum equation. A uniform pressure
-  // has no gradient, but through the SPH gradient of a sheared lattice it
-  // exerts spurious shear stresses proportional to itself
-  // (docs/validation.md); c^2 rho0 removes them, 0 is the paper's form.
-  double reference_pressure;
 };
 
 // WithSurfaces = false compiles the loop without any boundary-particle code:
 // a scene without walls or grains pays nothing for them.
-template <int Dim, class ExecSpace, bool WithSurfaces>
+template <int Dim, class ExecSpace, bool WithSurfaces, bool WithShifting>
 struct PairRates {
   using MemorySpace = typename ExecSpace::memory_space;
   Particles<Dim, MemorySpace> P;
-  CellList<Dim, ExecSpace> cells;
+  NeighbourList<Dim, ExecSpace> neighbours;
   QuinticKernel<Dim> kernel;
   FluidProperties fluid;
   Vec<Dim> body_force;
+  ShiftingParameters shifting;
 
   KOKKOS_INLINE_FUNCTION void operator()(int a) const {
     const Vec<Dim> x_a = row<Dim>(P.x, a), v_a = row<Dim>(P.v, a);
-    const double rho_a = P.rho(a), p_a = P.p(a) - fluid.reference_pressure;
+    const double inv_rho_a = P.inverse_density(a), P_a = P.pressure_term(a);
     const bool a_is_fluid = P.kind(a) == kFluid;
     double drho = 0.0;
     Vec<Dim> acceleration = Vec<Dim>::zero();
+    Vec<Dim> grad_concentration = Vec<Dim>::zero();
+    double grad_velocity[Dim][Dim] = {};  // d v_i / d x_j
 
-    cells.for_each_candidate(x_a, [&](int b) {
+    const int end = neighbours.end(a);
+    for (int k = neighbours.begin(a); k < end; ++k) {
+      const int b = neighbours.neighbour(k);
       const Vec<Dim> r_ab = x_a - row<Dim>(P.x, b);
       const double r_sq = dot(r_ab, r_ab);
-      if (r_sq >= kernel.cutoff_sq || b == a) return;
+      if (r_sq >= kernel.cutoff_sq) continue;  // the list holds the skin too
       const double F_ab = kernel.derivative_over_r(math::sqrt(r_sq));
-      const double m_b = P.m(b), rho_b = P.rho(b);
+      const double m_b = P.m(b);
       const Vec<Dim> v_ab = v_a - row<Dim>(P.v, b);
       drho += continuity_rate(m_b, v_ab, r_ab, F_ab);
-      if (!a_is_fluid) return;  // boundary particles move as their surface prescribes
-      acceleration += pressure_acceleration(m_b, p_a, rho_a, P.p(b) - fluid.reference_pressure, rho_b, r_ab, F_ab);
+      if (!a_is_fluid) continue;  // boundary particles move as their surface prescribes
+      if constexpr (WithShifting) {
+        const double volume_F = m_b * P.inverse_density(b) * F_ab;  // (m_b/rho_b) grad W = volume_F r_ab
+        grad_concentration += volume_F * r_ab;
+        for (int i = 0; i < Dim; ++i)
+          for (int j = 0; j < Dim; ++j) grad_velocity[i][j] -= volume_F * v_ab[i] * r_ab[j];
+      }
+      acceleration += pressure_acceleration(m_b, P_a, P.pressure_term(b), r_ab, F_ab);
       Vec<Dim> v_viscous = v_ab;
       if constexpr (WithSurfaces) {
         const int kind_b = P.kind(b);
@@ -63,13 +78,25 @@ struct PairRates {
           v_viscous = no_slip_factor(s, fluid.min_surface_distance) * v_ab;
         }
       }
-      acceleration += viscous_acceleration(m_b, fluid.kinematic_viscosity, rho_a, rho_b, v_viscous, F_ab);
-    });
+      acceleration += viscous_acceleration(m_b, fluid.kinematic_viscosity, inv_rho_a, P.inverse_density(b), v_viscous, F_ab);
+    }
 
     P.drhodt(a) = drho;
     if (a_is_fluid) acceleration += body_force;
     else acceleration = Vec<Dim>::zero();
     set_row(P.dvdt, a, acceleration);
+    if constexpr (WithShifting) {
+      Vec<Dim> shift = Vec<Dim>::zero(), dv = Vec<Dim>::zero();
+      if (a_is_fluid) {
+        shift = (-shifting.coefficient * shifting.h_dt * math::sqrt(dot(v_a, v_a))) * grad_concentration;
+        const double length = math::sqrt(dot(shift, shift));
+        if (length > shifting.max_shift) shift = (shifting.max_shift / length) * shift;
+        for (int i = 0; i < Dim; ++i)
+          for (int j = 0; j < Dim; ++j) dv[i] += grad_velocity[i][j] * shift[j];
+      }
+      set_row(P.shift, a, shift);
+      set_row(P.shift_velocity, a, dv);
+    }
   }
 };
 
@@ -77,15 +104,24 @@ struct PairRates {
 // be up to date.
 template <int Dim, class ExecSpace>
 void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                        const CellList<Dim, ExecSpace>& cells, const QuinticKernel<Dim>& kernel,
-                        const FluidProperties& fluid, const Vec<Dim>& body_force) {
+                        const NeighbourList<Dim, ExecSpace>& neighbours, const QuinticKernel<Dim>& kernel,
+                        const FluidProperties& fluid, const Vec<Dim>& body_force,
+                        const ShiftingParameters& shifting = {}) {
   const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
-  if (P.has_surfaces)
+  const bool shift = P.has_shifting && shifting.coefficient > 0;
+  // Each combination is its own kernel: what a scene does not use is not compiled into its loop.
+  if (P.has_surfaces && shift)
+    Kokkos::parallel_for("poresph::PairRates<surfaces,shifting>", policy,
+                         PairRates<Dim, ExecSpace, true, true>{P, neighbours, kernel, fluid, body_force, shifting});
+  else if (P.has_surfaces)
     Kokkos::parallel_for("poresph::PairRates<surfaces>", policy,
-                         PairRates<Dim, ExecSpace, true>{P, cells, kernel, fluid, body_force});
+                         PairRates<Dim, ExecSpace, true, false>{P, neighbours, kernel, fluid, body_force, shifting});
+  else if (shift)
+    Kokkos::parallel_for("poresph::PairRates<shifting>", policy,
+                         PairRates<Dim, ExecSpace, false, true>{P, neighbours, kernel, fluid, body_force, shifting});
   else
     Kokkos::parallel_for("poresph::PairRates", policy,
-                         PairRates<Dim, ExecSpace, false>{P, cells, kernel, fluid, body_force});
+                         PairRates<Dim, ExecSpace, false, false>{P, neighbours, kernel, fluid, body_force, shifting});
 }
 
 }  // namespace poresph

@@ -15,21 +15,24 @@ KOKKOS_INLINE_FUNCTION double continuity_rate(double m_b, const Vec<Dim>& v_ab, 
   return m_b * F_ab * dot(v_ab, r_ab);
 }
 
-// Symmetric pressure term: -m_b (p_a/rho_a^2 + p_b/rho_b^2) grad_a W_ab.
+// p / rho^2, the per-particle factor of the symmetric pressure term.
+KOKKOS_INLINE_FUNCTION double pressure_term(double p, double rho) { return p / (rho * rho); }
+
+// Symmetric pressure term: -m_b (p_a/rho_a^2 + p_b/rho_b^2) grad_a W_ab,
+// given the pressure terms P = p / rho^2 of both particles.
 template <int Dim>
-KOKKOS_INLINE_FUNCTION Vec<Dim> pressure_acceleration(double m_b, double p_a, double rho_a, double p_b, double rho_b,
-                                                      const Vec<Dim>& r_ab, double F_ab) {
-  const double coefficient = -m_b * (p_a / (rho_a * rho_a) + p_b / (rho_b * rho_b)) * F_ab;
-  return coefficient * r_ab;
+KOKKOS_INLINE_FUNCTION Vec<Dim> pressure_acceleration(double m_b, double P_a, double P_b, const Vec<Dim>& r_ab,
+                                                      double F_ab) {
+  return (-m_b * (P_a + P_b) * F_ab) * r_ab;
 }
 
 // Morris et al. (1997) viscous term, m_b (mu_a + mu_b) v_ab / (rho_a rho_b) F_ab,
-// with mu = rho nu for one fluid of kinematic viscosity nu.
+// with mu = rho nu for one fluid of kinematic viscosity nu, written as
+// m_b nu (1/rho_a + 1/rho_b) v_ab F_ab from the inverse densities.
 template <int Dim>
-KOKKOS_INLINE_FUNCTION Vec<Dim> viscous_acceleration(double m_b, double nu, double rho_a, double rho_b,
+KOKKOS_INLINE_FUNCTION Vec<Dim> viscous_acceleration(double m_b, double nu, double inv_rho_a, double inv_rho_b,
                                                      const Vec<Dim>& v_ab, double F_ab) {
-  const double coefficient = m_b * nu * (rho_a + rho_b) / (rho_a * rho_b) * F_ab;
-  return coefficient * v_ab;
+  return (m_b * nu * (inv_rho_a + inv_rho_b) * F_ab) * v_ab;
 }
 
 // Weakly compressible equation of state of the paper: p = c^2 rho.

@@ -47,3 +47,21 @@ void correct_full_step(const ExecSpace& space, const Particles<Dim, typename Exe
 }
 
 }  // namespace poresph
+
+namespace poresph {
+
+// Applies the particle-shifting displacement computed with the mid-point
+// rates, and the matching velocity change, after the corrector.
+template <int Dim, class ExecSpace>
+void apply_shifting(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P) {
+  const auto Q = P;
+  Kokkos::parallel_for(
+      "poresph::apply_shifting", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+        for (int d = 0; d < Dim; ++d) {
+          Q.x(i, d) += Q.shift(i, d);
+          Q.v(i, d) += Q.shift_velocity(i, d);
+        }
+      });
+}
+
+}  // namespace poresph

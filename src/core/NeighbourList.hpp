@@ -1,0 +1,72 @@
+#pragma once
+// Verlet neighbour list: for each owned particle, every particle (owned or
+// ghost) within the support plus a skin, found through the cell list. Kept
+// over many steps while no particle has moved more than half the skin, so
+// the pair loop walks a short contiguous list instead of 3^Dim cells.
+#include <Kokkos_Core.hpp>
+
+#include "core/CellList.hpp"
+#include "core/Vec.hpp"
+
+namespace poresph {
+
+template <int Dim, class ExecSpace>
+class NeighbourList {
+ public:
+  using MemorySpace = typename ExecSpace::memory_space;
+  using IndexView = Kokkos::View<int*, MemorySpace>;
+
+  template <class PositionView>
+  void build(const ExecSpace& space, const CellList<Dim, ExecSpace>& cells, const PositionView& x, int owned,
+             double radius) {
+    if (static_cast<int>(offsets_.extent(0)) < owned + 1) offsets_ = IndexView("NeighbourList::offsets", owned + owned / 4 + 1);
+    const auto offsets = offsets_;
+    const double radius_sq = radius * radius;
+    Kokkos::parallel_for(
+        "poresph::NeighbourList::count", Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
+          const Vec<Dim> xi = row<Dim>(x, i);
+          int n = 0;
+          cells.for_each_candidate(xi, [&](int j) {
+            const Vec<Dim> r = xi - row<Dim>(x, j);
+            n += (j != i && dot(r, r) < radius_sq);
+          });
+          offsets(i + 1) = n;
+        });
+    int total = 0;
+    Kokkos::parallel_scan(
+        "poresph::NeighbourList::offsets", Kokkos::RangePolicy<ExecSpace>(space, 0, owned + 1),
+        KOKKOS_LAMBDA(int i, int& running, bool final) {
+          const int n = i == 0 ? 0 : offsets(i);
+          running += n;
+          if (final) offsets(i) = running;
+        },
+        total);
+    if (static_cast<int>(indices_.extent(0)) < total) indices_ = IndexView("NeighbourList::indices", total + total / 4);
+    const auto indices = indices_;
+    Kokkos::parallel_for(
+        "poresph::NeighbourList::fill", Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
+          const Vec<Dim> xi = row<Dim>(x, i);
+          int k = offsets(i);
+          cells.for_each_candidate(xi, [&](int j) {
+            const Vec<Dim> r = xi - row<Dim>(x, j);
+            if (j != i && dot(r, r) < radius_sq) indices(k++) = j;
+          });
+        });
+    space.fence();
+    pairs_ = total;
+  }
+
+  // Neighbours of owned particle i are neighbour(k) for k in [begin(i), end(i)).
+  // (A plain loop, not a callback: GCC does not inline a per-pair lambda.)
+  KOKKOS_INLINE_FUNCTION int begin(int i) const { return offsets_(i); }
+  KOKKOS_INLINE_FUNCTION int end(int i) const { return offsets_(i + 1); }
+  KOKKOS_INLINE_FUNCTION int neighbour(int k) const { return indices_(k); }
+
+  long long pairs() const { return pairs_; }
+
+ private:
+  IndexView offsets_, indices_;
+  long long pairs_ = 0;
+};
+
+}  // namespace poresph

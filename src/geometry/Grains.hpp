@@ -1,0 +1,33 @@
+#pragma once
+// Soil grains: circles in 2D, spheres in 3D, in the periodic unit cell.
+// Read from a text file (one grain a line: cx cy r, or cx cy cz r) or from
+// an inline list, and checked before any work is done.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "io/SceneConfig.hpp"
+
+namespace poresph {
+
+// Parses a grain file: `#` starts a comment, blank lines are skipped, every
+// other line holds dimension + 1 numbers. Throws std::invalid_argument naming
+// the file and line.
+std::vector<Grain> read_grain_file(const std::string& path, int dimension);
+
+// Grains from a flat list cx, cy, r, cx, cy, r, ... (dimension + 1 per grain).
+std::vector<Grain> grains_from_list(const std::vector<double>& values, int dimension);
+
+// Displacement a - b to the nearest periodic image along periodic directions.
+std::array<double, 3> periodic_difference(const std::array<double, 3>& a, const std::array<double, 3>& b,
+                                          const SceneConfig& scene);
+
+// Refuses, naming the grains: a non-positive radius, a grain wider than the
+// cell, and (unless allowed) two grains that overlap.
+void check_grains(const std::vector<Grain>& grains, const SceneConfig& scene);
+
+// Fraction of the cell not covered by grains: exact for separate grains,
+// sampled on a fine grid where grains overlap.
+double porosity(const std::vector<Grain>& grains, const SceneConfig& scene);
+
+}  // namespace poresph
