@@ -54,6 +54,8 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
   const double dx = scene.particle_spacing;
   const double h = scene.smoothing_length_ratio * dx;
   const double shell = kSupportRadiusInH * h;
+  // Points on a surface or on the shell's inner edge, up to rounding, belong to the shell.
+  const double on_surface = 1e-9 * dx;
   std::array<int, Dim> first{}, count{};
   for (int d = 0; d < Dim; ++d) count[d] = lattice_points_across(scene.cell_size[d], dx, d);
   const bool channel = scene.walls == WallType::Channel;
@@ -108,10 +110,10 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
       }
       if (!inside_lattice) continue;
       const double dist = std::sqrt(dist_sq);
-      if (dist > grain.radius) continue;
+      if (dist > grain.radius + on_surface) continue;
       const long long k = flat_index(index);
       const double below_surface = grain.radius - dist;
-      if (below_surface > shell) owner[k] = kDeep;
+      if (below_surface > shell + on_surface) owner[k] = kDeep;
       else if (owner[k] != kDeep && (owner[k] == kNone || below_surface < depth[k])) {
         owner[k] = g;
         depth[k] = below_surface;

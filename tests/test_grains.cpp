@@ -1,0 +1,132 @@
+// Grains: reading, checks before any work, lattice filling, porosity.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "diagnostics/SteadyState.hpp"
+#include "geometry/Grains.hpp"
+#include "geometry/Lattice.hpp"
+
+namespace poresph {
+namespace {
+
+SceneConfig unit_cell(double dx = 0.02) {
+  SceneConfig s;
+  s.dimension = 2;
+  s.cell_size = {1.0, 1.0, 0};
+  s.particle_spacing = dx;
+  s.kinematic_viscosity = 1e-3;
+  s.end_time = 1;
+  return s;
+}
+
+std::string write_file(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / name;
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Grains, FileWithCommentsAndBlankLines) {
+  const auto path = write_file("grains-ok.txt", "# cx cy r\n0.5 0.5 0.2   # centre\n\n  0.1 0.9 0.05\n");
+  const auto grains = read_grain_file(path, 2);
+  ASSERT_EQ(grains.size(), 2u);
+  EXPECT_EQ(grains[1].centre[0], 0.1);
+  EXPECT_EQ(grains[1].radius, 0.05);
+  EXPECT_NE(grains[1].origin.find(":4"), std::string::npos);
+}
+
+TEST(Grains, FileErrorsNameTheLine) {
+  const auto path = write_file("grains-bad.txt", "0.5 0.5 0.2\n0.5 x 0.1\n");
+  EXPECT_NE(error_of([&] { read_grain_file(path, 2); }).find(":2"), std::string::npos);
+  const auto short_line = write_file("grains-short.txt", "0.5 0.5\n");
+  EXPECT_NE(error_of([&] { read_grain_file(short_line, 2); }).find("expected 3 numbers"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_grain_file("/nonexistent/grains.txt", 2); }).find("cannot open"), std::string::npos);
+}
+
+TEST(Grains, InlineListNeedsWholeGrains) {
+  EXPECT_EQ(grains_from_list({0.5, 0.5, 0.1, 0.2, 0.2, 0.05}, 2).size(), 2u);
+  EXPECT_FALSE(error_of([] { grains_from_list({0.5, 0.5, 0.1, 0.2}, 2); }).empty());
+}
+
+TEST(Grains, ChecksRefuseBadGrainsNamingThem) {
+  SceneConfig scene = unit_cell();
+  auto grains = grains_from_list({0.5, 0.5, 0.0}, 2);
+  EXPECT_NE(error_of([&] { check_grains(grains, scene); }).find("Grains/Inline #1"), std::string::npos);
+  grains = grains_from_list({0.5, 0.5, 0.6}, 2);
+  EXPECT_NE(error_of([&] { check_grains(grains, scene); }).find("wider than the cell"), std::string::npos);
+  // Overlap across the periodic boundary: centres 0.05 and 0.95 are 0.1 apart.
+  grains = grains_from_list({0.05, 0.5, 0.06, 0.95, 0.5, 0.06}, 2);
+  const auto message = error_of([&] { check_grains(grains, scene); });
+  EXPECT_NE(message.find("#1 and Grains/Inline #2 overlap"), std::string::npos) << message;
+  scene.allow_overlapping_grains = true;
+  EXPECT_TRUE(error_of([&] { check_grains(grains, scene); }).empty());
+}
+
+TEST(Grains, PorosityExactAndSampled) {
+  SceneConfig scene = unit_cell();
+  EXPECT_NEAR(porosity(grains_from_list({0.5, 0.5, 0.2}, 2), scene), 1 - M_PI * 0.04, 1e-15);
+  // Two overlapping grains (lens area known in closed form).
+  scene.allow_overlapping_grains = true;
+  const double r = 0.2, d = 0.2;
+  const double lens = 2 * r * r * std::acos(d / (2 * r)) - 0.5 * d * std::sqrt(4 * r * r - d * d);
+  EXPECT_NEAR(porosity(grains_from_list({0.4, 0.5, r, 0.6, 0.5, r}, 2), scene), 1 - (2 * M_PI * r * r - lens), 2e-4);
+}
+
+// Every fluid point lies outside every grain (periodic images included);
+// every grain boundary particle lies in its grain's shell r - 3h .. r.
+TEST(Grains, LatticeFillingRespectsGrainsAcrossTheCorner) {
+  SceneConfig scene = unit_cell(0.02);
+  scene.grains = grains_from_list({0.02, 0.97, 0.15, 0.5, 0.5, 0.2}, 2);  // the first crosses the corner
+  const double shell = 3 * scene.particle_spacing, rounding = 1e-9 * scene.particle_spacing;
+  const auto seeds = fill_lattice<2>(scene);
+  int boundary_near_corner[4] = {0, 0, 0, 0};  // one per quadrant of the cell
+  for (const auto& s : seeds) {
+    const std::array<double, 3> p{s.x[0], s.x[1], 0};
+    double nearest_surface = 1e9;
+    for (const auto& g : scene.grains) {
+      const auto d = periodic_difference(p, g.centre, scene);
+      nearest_surface = std::min(nearest_surface, std::hypot(d[0], d[1]) - g.radius);
+    }
+    if (s.kind == kFluid) {
+      EXPECT_GT(nearest_surface, 0.0) << s.x[0] << ", " << s.x[1];
+    } else {
+      EXPECT_EQ(s.kind, kGrainBoundary);
+      EXPECT_LE(nearest_surface, rounding);  // on the surface counts as in the solid
+      EXPECT_GE(nearest_surface, -shell - rounding);
+      // The stored offset and radius describe the grain image the particle belongs to.
+      EXPECT_NEAR(std::hypot(s.wall_vector[0], s.wall_vector[1]) - s.wall_scalar, nearest_surface, 1e-12);
+      if (std::hypot(s.wall_vector[0], s.wall_vector[1]) > 0 && s.wall_scalar == 0.15)
+        ++boundary_near_corner[(s.x[0] > 0.5) + 2 * (s.x[1] > 0.5)];
+    }
+  }
+  for (int q = 0; q < 4; ++q) EXPECT_GT(boundary_near_corner[q], 0) << "quadrant " << q;
+}
+
+TEST(SteadyState, DetectsAPlateauOnlyAfterAFullWindow) {
+  SteadyStateDetector detector(10.0, 1e-3);
+  bool steady = false;
+  double t = 0;
+  for (; t <= 100 && !steady; t += 1) steady = detector.add(t, 1 - std::exp(-t / 10));
+  // 1 - e^{-t/10} changes by less than 1e-3 over 10 units once e^{-t/10}(e - 1) < 1e-3.
+  EXPECT_TRUE(steady);
+  EXPECT_GT(t, 10 * std::log(1.718 / 1e-3) - 2);
+  SteadyStateDetector constant(10.0, 1e-3);
+  EXPECT_FALSE(constant.add(0, 1.0));  // not before a whole window has passed
+  EXPECT_FALSE(constant.add(5, 1.0));
+  EXPECT_TRUE(constant.add(10, 1.0));
+}
+
+}  // namespace
+}  // namespace poresph

@@ -1,0 +1,54 @@
+// Permeability against references: plane Poiseuille flow (k = L^2/12 of the
+// channel cell) and Sangani & Acrivos's square arrays of cylinders at solid
+// fractions 0.2 and 0.4, at dx = 0.01 of the cell side, run from the shipped
+// scene files until k is steady.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "app/Run.hpp"
+#include "io/Parameters.hpp"
+
+namespace poresph {
+namespace {
+
+RunReport run_input(const std::string& file, std::vector<std::string> overrides = {}) {
+  const std::string path = std::string(PORESPH_INPUT_DIR) + "/" + file;
+  overrides.push_back("Run/Progress=never");
+  auto parameters = read_parameters(path, overrides);
+  const SceneConfig scene =
+      scene_from_parameters(*parameters, std::filesystem::path(path).parent_path().string());
+  RunOptions options;
+  options.output_dir = (std::filesystem::temp_directory_path() / ("poresph-test-" + scene.name)).string();
+  std::filesystem::create_directories(options.output_dir);
+  options.progress_on_terminal = false;
+  return run_scene(scene, options);
+}
+
+TEST(Permeability, ChannelIsWidthSquaredOverTwelve) {
+  // The Poiseuille scene at steady state: <u> = F L^2/(12 nu) over the cell.
+  const RunReport report = run_input("poiseuille.xml", {"Diagnostics/Profile Sample Times={}"});
+  ASSERT_TRUE(report.has_permeability);
+  EXPECT_NEAR(report.permeability[0][0] / (1e-3 * 1e-3 / 12), 1.0, 0.005);
+  EXPECT_NEAR(report.permeability[1][0], 0.0, 1e-6 * report.permeability[0][0]);
+}
+
+void expect_sangani_acrivos(const std::string& file, double drag) {
+  const RunReport report = run_input("square_array/" + file);
+  const double k_over_L2 = report.permeability[0][0] / (0.1 * 0.1);
+  EXPECT_NEAR(k_over_L2 * drag, 1.0, 0.02) << "k/L^2 = " << k_over_L2 << ", reference " << 1 / drag;
+  EXPECT_TRUE(report.steady) << report.stopped_by;
+  EXPECT_EQ(report.particles_inside_grains, 0);
+  EXPECT_LT(std::abs(report.permeability[1][0]), 1e-3 * report.permeability[0][0]);  // symmetric cell: no kyx
+  EXPECT_LT(report.reynolds_number, 0.2);
+}
+
+TEST(Permeability, SquareArraySolidFraction02MatchesSanganiAcrivos) {
+  expect_sangani_acrivos("square_array_c20.xml", 51.53);
+}
+TEST(Permeability, SquareArraySolidFraction04MatchesSanganiAcrivos) {
+  expect_sangani_acrivos("square_array_c40.xml", 217.89);
+}
+
+}  // namespace
+}  // namespace poresph
