@@ -71,6 +71,38 @@ double channel_profile_error(const Simulation<Dim, ExecSpace>& sim, const Channe
   return worst;
 }
 
+// The owned particles' state as CSV, for plots: one row a particle.
+template <int Dim, class ExecSpace>
+void write_particles_csv(const Simulation<Dim, ExecSpace>& sim, const std::string& path) {
+  const auto& P = sim.particles();
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
+  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.v);
+  auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.rho);
+  auto p = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.p);
+  auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
+  auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.id);
+  const auto& scene = sim.scene();
+  std::string text = "id,kind";
+  for (int d = 0; d < Dim; ++d) text += std::string(",") + "xyz"[d];
+  for (int d = 0; d < Dim; ++d) text += std::string(",v") + "xyz"[d];
+  text += ",rho,p\n";
+  char buffer[64];
+  for (int i = 0; i < P.owned; ++i) {
+    text += std::to_string(id(i)) + "," + std::to_string(kind(i));
+    for (int d = 0; d < Dim; ++d) {
+      // Positions stay unwrapped between neighbour-list rebuilds: wrap for output.
+      double xd = x(i, d);
+      if (scene.periodic[d]) xd -= scene.cell_size[d] * std::floor(xd / scene.cell_size[d]);
+      std::snprintf(buffer, sizeof buffer, ",%.10g", xd);
+      text += buffer;
+    }
+    for (int d = 0; d < Dim; ++d) std::snprintf(buffer, sizeof buffer, ",%.10g", v(i, d)), text += buffer;
+    std::snprintf(buffer, sizeof buffer, ",%.12g,%.10g\n", rho(i), p(i));
+    text += buffer;
+  }
+  write_file_atomically(path, text);
+}
+
 // The one axis a body force points along, or -1 if it has several components.
 int force_axis(const SceneConfig& scene) {
   int axis = -1;
@@ -179,6 +211,10 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   progress.finish();
   check();
   if (channel) sample_profile(sim.time());
+  if (scene.write_final_particles) {
+    const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
+    write_particles_csv(sim, options.output_dir + "/particles" + suffix + ".csv");
+  }
 
   const auto& derived = sim.derived();
   report.dimension = Dim;

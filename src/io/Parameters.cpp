@@ -133,6 +133,12 @@ RCP<ParameterList> make_valid_parameters() {
           one_of({"auto", "always", "never"}));
   }
   {
+    auto& s = list->sublist("Output", false, "What a run writes besides summary.json.");
+    s.set("Final Particles CSV", false,
+          "Write particles.csv of the final state (id, kind, position, velocity, density, pressure); "
+          "perf/plot_velocity.py draws it.");
+  }
+  {
     auto& s = list->sublist("Diagnostics", false, "Checks against known solutions.");
     s.set("Profile Sample Times", Array<double>(),
           "Channel scenes: times (s) at which v_x is compared with the start-up series solution; the end "
@@ -365,6 +371,8 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.permeability_tensor = permeability.get<bool>("Tensor");
   scene.steady_tolerance = permeability.get<double>("Steady Tolerance");
   scene.steady_window = permeability.get<double>("Steady Window");
+
+  scene.write_final_particles = list.sublist("Output").get<bool>("Final Particles CSV");
 
   const auto samples = list.sublist("Diagnostics").get<Array<double>>("Profile Sample Times");
   scene.profile_sample_times.assign(samples.begin(), samples.end());

@@ -52,6 +52,7 @@ struct SceneConfig {
   std::vector<double> profile_sample_times;
 
   ProgressMode progress = ProgressMode::Auto;
+  bool write_final_particles = false;  // particles.csv of the final state
 
   // Permeability: drive every direction in turn (full tensor) or only along the body force.
   bool permeability_tensor = false;
