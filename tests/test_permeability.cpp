@@ -52,3 +52,31 @@ TEST(Permeability, SquareArraySolidFraction04MatchesSanganiAcrivos) {
 
 }  // namespace
 }  // namespace poresph
+
+namespace poresph {
+namespace {
+
+// Driving x and y in turn: the square array's tensor is isotropic, and the
+// tensor of an irregular cell is symmetric (Onsager), which no single run
+// enforces.
+TEST(Permeability, TensorOfTheSquareArrayIsIsotropic) {
+  const RunReport report = run_input("square_array/square_array_c40.xml",
+                                     {"Permeability/Tensor=true", "Discretization/Particle Spacing=0.004"});
+  ASSERT_TRUE(report.driven[0] && report.driven[1]);
+  const double kxx = report.permeability[0][0], kyy = report.permeability[1][1];
+  EXPECT_NEAR(kyy / kxx, 1.0, 1e-6);
+  EXPECT_LT(std::abs(report.permeability[0][1]), 1e-3 * kxx);
+  EXPECT_LT(std::abs(report.permeability[1][0]), 1e-3 * kxx);
+}
+
+TEST(Permeability, TensorOfProblemThreeIsSymmetric) {
+  const RunReport report =
+      run_input("problem3/problem3.xml", {"Permeability/Tensor=true", "Discretization/Particle Spacing=0.002"});
+  const double kxy = report.permeability[0][1], kyx = report.permeability[1][0];
+  EXPECT_GT(std::abs(kxy), 0.1 * report.permeability[1][1]);  // the cell is anisotropic: a real test
+  EXPECT_NEAR(kxy / kyx, 1.0, 0.05);
+  EXPECT_GT(report.permeability[0][0], 2 * report.permeability[1][1]);  // throats favour x in this packing
+}
+
+}  // namespace
+}  // namespace poresph
