@@ -167,7 +167,10 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     history << ",relative_change\n";
   }
   auto check = [&]() {
-    report.particles_inside_grains = std::max(report.particles_inside_grains, sim.fluid_particles_inside_grains());
+    const auto inside = sim.fluid_inside_grains();
+    report.particles_inside_grains = std::max(report.particles_inside_grains, inside.particles);
+    report.max_grain_penetration =
+        std::max(report.max_grain_penetration, inside.max_depth / scene.particle_spacing);
     if (!measure_k) return;
     const Vec<Dim> u = sim.superficial_velocity();
     steady = detector.add(sim.time(), permeability(u, axis));
@@ -315,7 +318,8 @@ JsonObject RunReport::to_json() const {
   }
   json.add("porosity", porosity);
   if (has_grains) {
-    json.add("particles_inside_grains", particles_inside_grains);
+    json.add("particles_inside_grains", particles_inside_grains)
+        .add("max_grain_penetration", max_grain_penetration);
     if (has_permeability) json.add("reynolds_number", reynolds_number);
   }
   return json;

@@ -49,6 +49,7 @@ struct RunReport {
   double porosity = 1.0;
   double reynolds_number = 0;           // mean pore velocity x mean grain diameter / nu
   int particles_inside_grains = 0;      // most fluid particles found inside grains at any check
+  double max_grain_penetration = 0;     // deepest of them at any check, in particle spacings
 
   JsonObject to_json() const;
 };

@@ -199,8 +199,9 @@ Vec<Dim> Simulation<Dim, ExecSpace>::superficial_velocity() const {
 }
 
 template <int Dim, class ExecSpace>
-int Simulation<Dim, ExecSpace>::fluid_particles_inside_grains() const {
-  if (grains_.extent(0) == 0) return 0;
+typename Simulation<Dim, ExecSpace>::GrainPenetration Simulation<Dim, ExecSpace>::fluid_inside_grains() const {
+  GrainPenetration result;
+  if (grains_.extent(0) == 0) return result;
   const auto x = particles_.x;
   const auto kind = particles_.kind;
   const auto grains = grains_;
@@ -208,11 +209,11 @@ int Simulation<Dim, ExecSpace>::fluid_particles_inside_grains() const {
   double side[Dim];
   bool periodic[Dim];
   for (int d = 0; d < Dim; ++d) side[d] = scene_.cell_size[d], periodic[d] = scene_.periodic[d];
-  int inside = 0;
   Kokkos::parallel_reduce(
-      "poresph::fluid_particles_inside_grains", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
-      KOKKOS_LAMBDA(int i, int& count) {
+      "poresph::fluid_inside_grains", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      KOKKOS_LAMBDA(int i, int& count, double& deepest) {
         if (kind(i) != kFluid) return;
+        double depth = 0;
         for (int g = 0; g < ngrains; ++g) {
           double dist_sq = 0;
           for (int d = 0; d < Dim; ++d) {
@@ -220,14 +221,19 @@ int Simulation<Dim, ExecSpace>::fluid_particles_inside_grains() const {
             if (periodic[d]) r -= side[d] * math::floor(r / side[d] + 0.5);  // nearest image
             dist_sq += r * r;
           }
-          if (dist_sq < grains(g, Dim) * grains(g, Dim)) {
-            ++count;
-            return;
+          const double radius = grains(g, Dim);
+          if (dist_sq < radius * radius) {
+            const double below = radius - math::sqrt(dist_sq);
+            depth = below > depth ? below : depth;
           }
         }
+        if (depth > 0) {
+          ++count;
+          if (depth > deepest) deepest = depth;
+        }
       },
-      inside);
-  return inside;
+      result.particles, Kokkos::Max<double>(result.max_depth));
+  return result;
 }
 
 #define PORESPH_INSTANTIATE(SPACE)       \

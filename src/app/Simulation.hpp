@@ -62,8 +62,13 @@ class Simulation {
   double max_density_variation() const;
   // Darcy's superficial velocity <u> = (1/V_cell) sum over fluid of (m/rho) v.
   Vec<Dim> superficial_velocity() const;
-  // Fluid particles whose position lies inside a grain (0 in a correct run).
-  int fluid_particles_inside_grains() const;
+  // Fluid particles whose position lies inside a grain (0 in a correct run),
+  // and how deep the deepest one is.
+  struct GrainPenetration {
+    int particles = 0;
+    double max_depth = 0;
+  };
+  GrainPenetration fluid_inside_grains() const;
 
  private:
   // Pressure of owned particles, then ghosts at the current positions: a
