@@ -144,7 +144,7 @@ TYPED_TEST(Conservation, NeighbourSkinDoesNotChangeTheTrajectory) {
     for (int s = 0; s < 150; ++s) sim.step();
     auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sim.particles().x);
     for (int i = 0; i < sim.particles().owned; ++i)
-      for (int d = 0; d < 2; ++d) positions[run].push_back(PeriodicHalo<2, TypeParam>::wrap_coordinate(x(i, d), 0, 1));
+      for (int d = 0; d < 2; ++d) positions[run].push_back(Halo<2, TypeParam>::wrap_coordinate(x(i, d), 0, 1));
     rebuilds[run] = sim.neighbour_rebuilds();
   }
   EXPECT_GT(rebuilds[0], 5 * rebuilds[1]);  // the skin did save rebuilds

@@ -10,7 +10,7 @@
 #include "core/CellList.hpp"
 #include "core/NeighbourList.hpp"
 #include "core/Particles.hpp"
-#include "parallel/PeriodicHalo.hpp"
+#include "parallel/Halo.hpp"
 
 namespace poresph {
 namespace {
@@ -21,6 +21,15 @@ TYPED_TEST_SUITE(NeighbourSearch, testing::ExecutionSpaces);
 
 // A neighbour: (particle id, image shift in units of the cell side per direction).
 using Neighbour = std::tuple<long long, int, int, int>;
+
+// The halo of a single process owning the whole cell: periodic images only.
+template <int Dim, class Space>
+Halo<Dim, Space> one_process_halo(const double (&side)[Dim], const std::array<bool, Dim>& periodic, double width) {
+  std::array<double, Dim> cell{};
+  std::array<std::vector<double>, Dim> cuts;
+  for (int d = 0; d < Dim; ++d) cell[d] = side[d], cuts[d] = {0.0, side[d]};
+  return Halo<Dim, Space>(Communicator(MPI_COMM_SELF), Decomposition<Dim>::cartesian(cell, periodic, cuts), width);
+}
 
 template <int Dim, class Space>
 Particles<Dim, typename Space::memory_space> random_particles(int n, const double (&side)[Dim], unsigned seed) {
@@ -69,9 +78,9 @@ void compare_with_brute_force(const double (&side)[Dim], const std::array<bool, 
                               int n, unsigned seed) {
   const Space space;
   auto P = random_particles<Dim, Space>(n, side, seed);
-  Vec<Dim> lo = Vec<Dim>::zero(), hi, search_lo, search_hi;
-  for (int d = 0; d < Dim; ++d) hi[d] = side[d], search_lo[d] = -cutoff, search_hi[d] = side[d] + cutoff;
-  PeriodicHalo<Dim, Space>(lo, hi, periodic, cutoff).build(space, P);
+  Vec<Dim> search_lo, search_hi;
+  for (int d = 0; d < Dim; ++d) search_lo[d] = -cutoff, search_hi[d] = side[d] + cutoff;
+  one_process_halo<Dim, Space>(side, periodic, cutoff).build(P);
   CellList<Dim, Space> cells;
   cells.build(space, P.x, P.total(), search_lo, search_hi, cutoff);
 
@@ -145,15 +154,13 @@ TYPED_TEST(NeighbourSearch, MatchesBruteForceMixed3D) {
 }
 
 TYPED_TEST(NeighbourSearch, CornerParticleArrivesOnceAtEachImageWithItsShift) {
-  const TypeParam space;
   Particles<2, typename TypeParam::memory_space> P;
   P.reserve(1);
   P.owned = 1;
   auto x = Kokkos::create_mirror_view(P.x);
   x(0, 0) = 0.05, x(0, 1) = 0.98;  // near the corner (0, 1)
   Kokkos::deep_copy(P.x, x);
-  const Vec<2> lo{{0, 0}}, hi{{1, 1}};
-  PeriodicHalo<2, TypeParam>(lo, hi, {true, true}, 0.1).build(space, P);
+  one_process_halo<2, TypeParam>({1.0, 1.0}, {true, true}, 0.1).build(P);
   ASSERT_EQ(P.ghosts, 3);
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
   std::set<std::pair<long, long>> shifts;
@@ -162,14 +169,13 @@ TYPED_TEST(NeighbourSearch, CornerParticleArrivesOnceAtEachImageWithItsShift) {
   EXPECT_EQ(shifts, expected);
 }
 
-TEST(PeriodicHalo, RefusesACellNarrowerThanTheSupport) {
-  const Vec<2> lo{{0, 0}}, hi{{0.2, 1}};
-  EXPECT_THROW((PeriodicHalo<2, Kokkos::Serial>(lo, hi, {true, true}, 0.3)), std::invalid_argument);
-  EXPECT_NO_THROW((PeriodicHalo<2, Kokkos::Serial>(lo, hi, {false, true}, 0.3)));
+TEST(Halo, RefusesACellNarrowerThanTheSupport) {
+  EXPECT_THROW((one_process_halo<2, Kokkos::Serial>({0.2, 1.0}, {true, true}, 0.3)), std::invalid_argument);
+  EXPECT_NO_THROW((one_process_halo<2, Kokkos::Serial>({0.2, 1.0}, {false, true}, 0.3)));
 }
 
-TEST(PeriodicHalo, WrapKeepsCoordinatesInsideTheCell) {
-  using H = PeriodicHalo<2, Kokkos::Serial>;
+TEST(Halo, WrapKeepsCoordinatesInsideTheCell) {
+  using H = Halo<2, Kokkos::Serial>;
   EXPECT_DOUBLE_EQ(H::wrap_coordinate(1.25, 0.0, 1.0), 0.25);
   EXPECT_DOUBLE_EQ(H::wrap_coordinate(-0.25, 0.0, 1.0), 0.75);
   EXPECT_LT(H::wrap_coordinate(-1e-20, 0.0, 1.0), 1.0);  // -1e-20 + 1 rounds to 1

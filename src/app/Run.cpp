@@ -15,6 +15,7 @@
 #include "diagnostics/ChannelFlow.hpp"
 #include "diagnostics/SteadyState.hpp"
 #include "geometry/Grains.hpp"
+#include "parallel/Communicator.hpp"
 
 namespace poresph {
 namespace {
@@ -52,7 +53,7 @@ class ProgressLine {
 };
 
 // Compares v_x of every fluid particle with the series solution at the
-// particles' current time; appends the points to `csv` for plots.
+// particles' current time; appends the points to `csv` (rank 0) for plots.
 template <int Dim, class ExecSpace>
 double channel_profile_error(const Simulation<Dim, ExecSpace>& sim, const ChannelFlow& reference, double sample_time,
                              std::ofstream& csv) {
@@ -62,13 +63,18 @@ double channel_profile_error(const Simulation<Dim, ExecSpace>& sim, const Channe
   auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
   const double t = sim.time(), scale = reference.steady_peak();
   double worst = 0.0;
+  std::string rows;
+  char buffer[160];
   for (int i = 0; i < P.owned; ++i) {
     if (kind(i) != kFluid) continue;
     const double series = reference.velocity(x(i, 1), t);
     worst = std::max(worst, std::abs(v(i, 0) - series) / scale);
-    csv << sample_time << ',' << t << ',' << x(i, 1) << ',' << v(i, 0) << ',' << series << '\n';
+    std::snprintf(buffer, sizeof buffer, "%.10g,%.10g,%.10g,%.10g,%.10g\n", sample_time, t, x(i, 1), v(i, 0), series);
+    rows += buffer;
   }
-  return worst;
+  const std::string all = sim.communicator().gather_text(rows);
+  if (csv.is_open()) csv << all;
+  return sim.communicator().max(worst);
 }
 
 // The owned particles' state as CSV, for plots: one row a particle.
@@ -82,10 +88,11 @@ void write_particles_csv(const Simulation<Dim, ExecSpace>& sim, const std::strin
   auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
   auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.id);
   const auto& scene = sim.scene();
-  std::string text = "id,kind";
-  for (int d = 0; d < Dim; ++d) text += std::string(",") + "xyz"[d];
-  for (int d = 0; d < Dim; ++d) text += std::string(",v") + "xyz"[d];
-  text += ",rho,p\n";
+  std::string header = "id,kind";
+  for (int d = 0; d < Dim; ++d) header += std::string(",") + "xyz"[d];
+  for (int d = 0; d < Dim; ++d) header += std::string(",v") + "xyz"[d];
+  header += ",rho,p\n";
+  std::string text;
   char buffer[64];
   for (int i = 0; i < P.owned; ++i) {
     text += std::to_string(id(i)) + "," + std::to_string(kind(i));
@@ -100,7 +107,8 @@ void write_particles_csv(const Simulation<Dim, ExecSpace>& sim, const std::strin
     std::snprintf(buffer, sizeof buffer, ",%.12g,%.10g\n", rho(i), p(i));
     text += buffer;
   }
-  write_file_atomically(path, text);
+  const std::string all = sim.communicator().gather_text(text);
+  if (sim.communicator().rank() == 0) write_file_atomically(path, header + all);
 }
 
 // The one axis a body force points along, or -1 if it has several components.
@@ -129,6 +137,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   const auto setup_start = Clock::now();
   Simulation<Dim, ExecSpace> sim(scene);
   report.setup_seconds += seconds_since(setup_start);
+  const bool root = sim.communicator().rank() == 0;
   const double dt = sim.time_step();
 
   // Channel start-up profiles (body force along x or moving walls).
@@ -139,7 +148,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   std::sort(samples.begin(), samples.end());
   size_t next_sample = 0;
   std::ofstream profile_csv;
-  if (channel) {
+  if (channel && root) {
     profile_csv.open(options.output_dir + "/profiles.csv");
     profile_csv.precision(10);
     profile_csv << "sample_time,time,y,v_x,v_x_series\n";
@@ -158,7 +167,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   bool steady = false;
   auto permeability = [&](const Vec<Dim>& u, int i) { return scene.kinematic_viscosity * u[i] / force_norm; };
   std::ofstream history;
-  if (measure_k) {
+  if (measure_k && root) {
     const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
     history.open(options.output_dir + "/permeability_history" + suffix + ".csv");
     history.precision(10);
@@ -179,8 +188,8 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     history << ',' << detector.relative_change() << '\n';
   };
 
-  const bool show_progress = scene.progress == ProgressMode::Always ||
-                             (scene.progress == ProgressMode::Auto && options.progress_on_terminal);
+  const bool show_progress = root && (scene.progress == ProgressMode::Always ||
+                                     (scene.progress == ProgressMode::Auto && options.progress_on_terminal));
   ProgressLine progress(show_progress);
   const char* label = drive_axis == 0 ? "[F along x] " : drive_axis == 1 ? "[F along y] " : drive_axis == 2 ? "[F along z] " : "";
   // Steps are counted, not times summed: the run ends on the step nearest End Time.
@@ -232,6 +241,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   report.smoothing_length = derived.smoothing_length;
   report.sound_speed = derived.sound_speed;
   report.wall_seconds += loop_seconds;
+  report.ranks = sim.communicator().size();
   report.threads = ExecSpace::concurrency();
   report.backend = backend_name<ExecSpace>();
   report.max_density_variation = std::max(report.max_density_variation, sim.max_density_variation());
@@ -328,7 +338,7 @@ JsonObject RunReport::to_json() const {
 RunReport run_scene(const SceneConfig& scene, const RunOptions& options) {
   using Space = Kokkos::DefaultHostExecutionSpace;
   const RunReport report = scene.dimension == 2 ? run<2, Space>(scene, options) : run<3, Space>(scene, options);
-  write_file_atomically(options.output_dir + "/summary.json", report.to_json().str() + "\n");
+  if (Communicator().rank() == 0) write_file_atomically(options.output_dir + "/summary.json", report.to_json().str() + "\n");
   return report;
 }
 

@@ -24,7 +24,7 @@ struct ProfileSample {
 struct RunReport {
   std::string scene;
   int dimension = 0;
-  int fluid_particles = 0, boundary_particles = 0;
+  long long fluid_particles = 0, boundary_particles = 0;
   long long steps = 0;
   double simulated_time = 0, time_step = 0, smoothing_length = 0, sound_speed = 0;
   std::string stopped_by;

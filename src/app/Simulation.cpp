@@ -1,5 +1,6 @@
 #include "app/Simulation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -57,26 +58,73 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
   return p;
 }
 
+template <int Dim>
+Decomposition<Dim> decompose(const SceneConfig& scene, int ranks) {
+  std::array<double, Dim> cell{};
+  std::array<bool, Dim> periodic{};
+  for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d];
+  std::array<int, Dim> grid{};
+  if (!scene.process_grid.empty()) {
+    if (static_cast<int>(scene.process_grid.size()) != Dim)
+      throw std::invalid_argument("Parallel/Process Grid needs one count per direction");
+    for (int d = 0; d < Dim; ++d) grid[d] = scene.process_grid[d];
+  } else {
+    // The factorisation of `ranks` whose boxes are closest to cubes.
+    double best = INFINITY;
+    std::array<int, Dim> g{};
+    auto search = [&](auto&& self, int d, int left) -> void {
+      if (d == Dim - 1) {
+        g[d] = left;
+        double worst = 1;
+        for (int a = 0; a < Dim; ++a)
+          for (int b = 0; b < Dim; ++b) worst = std::max(worst, (cell[a] / g[a]) / (cell[b] / g[b]));
+        if (worst < best) best = worst, grid = g;
+        return;
+      }
+      for (int n = 1; n <= left; ++n)
+        if (left % n == 0) g[d] = n, self(self, d + 1, left / n);
+    };
+    search(search, 0, ranks);
+  }
+  std::array<std::vector<double>, Dim> cuts;
+  int product = 1;
+  for (int d = 0; d < Dim; ++d) {
+    product *= grid[d];
+    cuts[d] = scene.cuts[d].empty() ? Decomposition<Dim>::equal_cuts(cell[d], grid[d]) : scene.cuts[d];
+    if (static_cast<int>(cuts[d].size()) != grid[d] + 1 || cuts[d].front() != 0 || cuts[d].back() != cell[d] ||
+        !std::is_sorted(cuts[d].begin(), cuts[d].end()))
+      throw std::invalid_argument("Parallel cuts along direction " + std::to_string(d) + " must run from 0 to the "
+                                  "cell side in increasing order, one more than the process grid's count");
+  }
+  if (product != ranks)
+    throw std::invalid_argument("Parallel/Process Grid holds " + std::to_string(product) + " processes, the run has " +
+                                std::to_string(ranks));
+  auto decomposition = Decomposition<Dim>::cartesian(cell, periodic, cuts);
+  decomposition.check(ranks);
+  return decomposition;
+}
+
 template <int Dim, class ExecSpace>
-Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace& space)
+Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace& space, const Communicator& comm)
     : scene_(scene),
       space_(space),
+      comm_(comm),
       derived_(derive_parameters(scene)),
       particles_(scene.walls != WallType::None || !scene.grains.empty(), scene.shifting_coefficient > 0),
       kernel_(derived_.smoothing_length) {
   if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
   skin_ = scene.neighbour_skin * derived_.smoothing_length;
   const double support = kernel_.cutoff + skin_;  // ghosts and lists reach this far
-  std::array<bool, Dim> periodic{};
-  Vec<Dim> lo = Vec<Dim>::zero(), hi;
+  halo_ = Halo<Dim, ExecSpace>(comm_, decompose<Dim>(scene, comm_.size()), support);
+  const auto& box = halo_.box();
+  double box_lo[Dim], box_hi[Dim];
   for (int d = 0; d < Dim; ++d) {
-    periodic[d] = scene.periodic[d];
-    hi[d] = scene.cell_size[d];
-    search_lo_[d] = -support;
-    search_hi_[d] = hi[d] + support;
+    box_lo[d] = box.lo[d], box_hi[d] = box.hi[d];
+    // The neighbour search covers the box and its halo (walls beyond the cell included).
+    search_lo_[d] = std::max(box.lo[d], 0.0) - support;
+    search_hi_[d] = std::min(box.hi[d], scene.cell_size[d]) + support;
     body_force_[d] = scene.body_force[d];
   }
-  halo_ = PeriodicHalo<Dim, ExecSpace>(lo, hi, periodic, support);
   fluid_ = FluidProperties{scene.kinematic_viscosity, std::sqrt(3.0) / 4.0 * scene.particle_spacing};
   reference_pressure_ =
       (1.0 - scene.background_pressure) * derived_.sound_speed * derived_.sound_speed * scene.density;
@@ -92,9 +140,12 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   }
   Kokkos::deep_copy(grains_, grains);
 
-  const auto seeds = fill_lattice<Dim>(scene);
+  const auto seeds = fill_lattice<Dim>(scene, box_lo, box_hi);
   load_seeds<Dim, ExecSpace>(seeds, scene.density, scene.particle_spacing, particles_);
-  for (const auto& s : seeds) fluid_count_ += s.kind == kFluid;
+  long long fluid = 0;
+  for (const auto& s : seeds) fluid += s.kind == kFluid;
+  fluid_count_ = comm_.sum(fluid);
+  total_count_ = comm_.sum(static_cast<long long>(seeds.size()));
   compute_rates();
 }
 
@@ -113,19 +164,22 @@ bool Simulation<Dim, ExecSpace>::moved_beyond_skin() const {
         count += d_sq > limit_sq;
       },
       moved);
-  return moved > 0;
+  return comm_.any(moved > 0);  // every process rebuilds together: they exchange ghosts
 }
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
   update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_);
   if (!moved_beyond_skin()) {
-    halo_.update(space_, particles_);
+    space_.fence();
+    halo_.update(particles_);
     return;
   }
   // Positions stay unwrapped between builds so that ghosts and lists remain consistent.
-  halo_.wrap(space_, particles_);
-  halo_.build(space_, particles_);
+  space_.fence();
+  halo_.wrap(particles_);
+  halo_.migrate(particles_);
+  halo_.build(particles_);
   cells_.build(space_, particles_.x, particles_.total(), search_lo_, search_hi_, kernel_.cutoff + skin_);
   neighbours_.build(space_, cells_, particles_.x, particles_.owned, kernel_.cutoff + skin_);
   const auto owned = std::make_pair(0, particles_.owned);
@@ -153,6 +207,12 @@ void Simulation<Dim, ExecSpace>::step() {
   if (particles_.has_shifting) apply_shifting(space_, particles_);
   ++steps_;
   time_ = steps_ * dt;  // not a running sum: no drift of the clock over 10^5 steps
+  // Particles only change hands at rebuilds, but a lost one must stop the run
+  // the step it happens; one integer reduction per step is cheap.
+  const long long total = comm_.sum(static_cast<long long>(particles_.owned));
+  if (total != total_count_)
+    throw std::runtime_error("particle count changed from " + std::to_string(total_count_) + " to " +
+                             std::to_string(total) + " at step " + std::to_string(steps_));
   if (scene_.resummation_interval > 0 && steps_ % scene_.resummation_interval == 0) {
     refresh_neighbourhood();
     resum_fluid_density(space_, particles_, neighbours_, kernel_);
@@ -174,7 +234,7 @@ double Simulation<Dim, ExecSpace>::max_density_variation() const {
         if (dev > worst) worst = dev;
       },
       Kokkos::Max<double>(variation));
-  return variation;
+  return comm_.max(variation);
 }
 
 template <int Dim, class ExecSpace>
@@ -193,7 +253,7 @@ Vec<Dim> Simulation<Dim, ExecSpace>::superficial_velocity() const {
           if (kind(i) == kFluid) sum += m(i) / rho(i) * v(i, d);
         },
         flux);
-    result[d] = flux / volume;
+    result[d] = comm_.sum(flux) / volume;
   }
   return result;
 }
@@ -233,8 +293,13 @@ typename Simulation<Dim, ExecSpace>::GrainPenetration Simulation<Dim, ExecSpace>
         }
       },
       result.particles, Kokkos::Max<double>(result.max_depth));
+  result.particles = comm_.sum(result.particles);
+  result.max_depth = comm_.max(result.max_depth);
   return result;
 }
+
+template Decomposition<2> decompose<2>(const SceneConfig&, int);
+template Decomposition<3> decompose<3>(const SceneConfig&, int);
 
 #define PORESPH_INSTANTIATE(SPACE)       \
   template class Simulation<2, SPACE>; \

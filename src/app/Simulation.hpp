@@ -12,7 +12,9 @@
 #include "core/Particles.hpp"
 #include "core/Vec.hpp"
 #include "io/SceneConfig.hpp"
-#include "parallel/PeriodicHalo.hpp"
+#include "parallel/Communicator.hpp"
+#include "parallel/Decomposition.hpp"
+#include "parallel/Halo.hpp"
 #include "physics/PairRates.hpp"
 #include "physics/TimeStep.hpp"
 
@@ -30,13 +32,18 @@ struct DerivedParameters {
 
 DerivedParameters derive_parameters(const SceneConfig& scene);
 
+// The scene's sub-domains for `ranks` processes.
+template <int Dim>
+Decomposition<Dim> decompose(const SceneConfig& scene, int ranks);
+
 template <int Dim, class ExecSpace>
 class Simulation {
  public:
   using MemorySpace = typename ExecSpace::memory_space;
   using ParticleSet = Particles<Dim, MemorySpace>;
 
-  explicit Simulation(const SceneConfig& scene, const ExecSpace& space = ExecSpace());
+  explicit Simulation(const SceneConfig& scene, const ExecSpace& space = ExecSpace(),
+                      const Communicator& comm = Communicator());
 
   // One predictor-corrector step of size time_step().
   void step();
@@ -56,8 +63,10 @@ class Simulation {
   long long neighbour_rebuilds() const { return rebuilds_; }
   long long neighbour_pairs() const { return neighbours_.pairs(); }
 
-  int fluid_particles() const { return fluid_count_; }
-  int boundary_particles() const { return particles_.owned - fluid_count_; }
+  // Over all processes.
+  long long fluid_particles() const { return fluid_count_; }
+  long long boundary_particles() const { return total_count_ - fluid_count_; }
+  const Communicator& communicator() const { return comm_; }
   // max |rho/rho0 - 1| over fluid particles.
   double max_density_variation() const;
   // Darcy's superficial velocity <u> = (1/V_cell) sum over fluid of (m/rho) v.
@@ -79,10 +88,11 @@ class Simulation {
 
   SceneConfig scene_;
   ExecSpace space_;
+  Communicator comm_;
   DerivedParameters derived_;
   ParticleSet particles_;
   QuinticKernel<Dim> kernel_;
-  PeriodicHalo<Dim, ExecSpace> halo_;
+  Halo<Dim, ExecSpace> halo_;
   CellList<Dim, ExecSpace> cells_;
   NeighbourList<Dim, ExecSpace> neighbours_;
   double skin_ = 0.0;
@@ -99,7 +109,7 @@ class Simulation {
   // particle arrangement it exerts spurious forces proportional to itself
   // (docs/validation.md): (1 - background) c^2 rho0.
   double reference_pressure_ = 0.0;
-  int fluid_count_ = 0;
+  long long fluid_count_ = 0, total_count_ = 0;
   double time_ = 0.0;
   long long steps_ = 0;
 };

@@ -52,7 +52,7 @@ CommandLine parse_command_line(int argc, char** argv) {
   return cl;
 }
 
-int run(const CommandLine& cl, int rank, int ranks) {
+int run(const CommandLine& cl, int rank) {
   if (cl.help) {
     if (rank == 0) std::cout << kUsage;
     return 0;
@@ -65,16 +65,17 @@ int run(const CommandLine& cl, int rank, int ranks) {
   auto parameters = poresph::read_parameters(cl.scene_file, cl.overrides);
   const poresph::SceneConfig scene = poresph::scene_from_parameters(
       *parameters, std::filesystem::absolute(cl.scene_file).parent_path().string());
-  if (ranks != 1) throw std::runtime_error("this version of PoreSPH runs on one MPI rank; got " + std::to_string(ranks));
 
   poresph::RunOptions options;
   options.output_dir = cl.output_dir.empty() ? "poresph-" + scene.name : cl.output_dir;
   options.progress_on_terminal = isatty(fileno(stdout));
-  std::filesystem::create_directories(options.output_dir);
-  poresph::write_parameters_xml(*parameters, options.output_dir + "/parameters_used.xml");
-
+  if (rank == 0) {
+    std::filesystem::create_directories(options.output_dir);
+    poresph::write_parameters_xml(*parameters, options.output_dir + "/parameters_used.xml");
+  }
   const auto report = poresph::run_scene(scene, options);
-  std::cout << "poresph: " << scene.name << ": " << report.steps << " steps to t = " << report.simulated_time
+  if (rank == 0)
+    std::cout << "poresph: " << scene.name << ": " << report.steps << " steps to t = " << report.simulated_time
             << " s in " << report.wall_seconds << " s; summary in " << options.output_dir << "/summary.json\n";
   return 0;
 }
@@ -83,9 +84,8 @@ int run(const CommandLine& cl, int rank, int ranks) {
 
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
-  int rank = 0, ranks = 1;
+  int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   int status = 0;
   CommandLine cl;
   try {
@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   int kokkos_argc = static_cast<int>(cl.kokkos_args.size());
   Kokkos::initialize(kokkos_argc, cl.kokkos_args.data());
   try {
-    status = run(cl, rank, ranks);
+    status = run(cl, rank);
   } catch (const poresph::ParameterError& e) {
     if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
     status = 2;

@@ -45,6 +45,29 @@ struct Particles {
   bool has_shifting = false;
 
   int total() const { return owned + ghosts; }
+
+  // The fields the communication layer moves, by what it moves them for;
+  // f is called with each View. It needs no idea what the fields mean,
+  // except that `x` is the position (ghosts carry shifted copies of it).
+  // A ghost's copy: everything a neighbour's pair loop reads.
+  template <class F>
+  void for_each_ghost_field(F&& f) const {
+    for_each_changing_field(f);
+    f(m), f(kind), f(id);
+    if (has_surfaces) f(wall_vector), f(wall_scalar);
+  }
+  // What changes between neighbour-list rebuilds (ghost refresh).
+  template <class F>
+  void for_each_changing_field(F&& f) const {
+    f(x), f(v), f(rho), f(p), f(pressure_term), f(inverse_density);
+  }
+  // Everything an owned particle is, for migration to another process.
+  template <class F>
+  void for_each_owned_field(F&& f) const {
+    for_each_ghost_field(f);
+    f(x_start), f(v_start), f(dvdt), f(rho_start), f(drhodt);
+    if (has_shifting) f(shift), f(shift_velocity);
+  }
   int capacity() const { return static_cast<int>(x.extent(0)); }
 
   explicit Particles(bool with_surfaces = false, bool with_shifting = false)

@@ -3,6 +3,7 @@
 // (i + 1/2) dx. Fluid fills the cell outside the grains; grains and plane
 // channel walls get boundary particles 3h deep. Particle ids come from the
 // lattice index, so whoever generates a particle gives it the same id.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -50,7 +51,20 @@ inline int boundary_layers(double dx, double h) {
 // bounding boxes (periodically wrapped), so the cost grows with the solid
 // volume, not with grains x lattice points.
 template <int Dim>
+std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene, const double (&lo)[Dim], const double (&hi)[Dim]);
+
+// The whole cell (one process).
+template <int Dim>
 std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
+  double lo[Dim], hi[Dim];
+  for (int d = 0; d < Dim; ++d) lo[d] = -1e300, hi[d] = 1e300;
+  return fill_lattice<Dim>(scene, lo, hi);
+}
+
+// Only the lattice points inside the box [lo, hi): every process generates
+// its own particles, and none holds the whole problem.
+template <int Dim>
+std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene, const double (&lo)[Dim], const double (&hi)[Dim]) {
   const double dx = scene.particle_spacing;
   const double h = scene.smoothing_length_ratio * dx;
   const double shell = kSupportRadiusInH * h;
@@ -65,12 +79,31 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
     first[1] = -layers;
     count[1] += 2 * layers;
   }
-  long long total = 1;
-  for (int d = 0; d < Dim; ++d) total *= count[d];
-  auto flat_index = [&](const int (&index)[Dim]) {
+  // Global lattice: ids. Local range: what this box generates.
+  auto global_id = [&](const int (&index)[Dim]) {
     long long k = 0;
     for (int d = Dim - 1; d >= 0; --d) k = k * count[d] + (index[d] - first[d]);
     return k;
+  };
+  int local_first[Dim], local_count[Dim];
+  long long total = 1;
+  for (int d = 0; d < Dim; ++d) {
+    const double a = std::max(lo[d], (first[d] - 1.0) * dx), b = std::min(hi[d], (first[d] + count[d] + 1.0) * dx);
+    const int begin = std::max(first[d], static_cast<int>(std::ceil(a / dx - 0.5)));
+    const int end = std::min(first[d] + count[d], static_cast<int>(std::ceil(b / dx - 0.5)));
+    local_first[d] = begin;
+    local_count[d] = std::max(0, end - begin);
+    total *= local_count[d];
+  }
+  auto flat_index = [&](const int (&index)[Dim]) {
+    long long k = 0;
+    for (int d = Dim - 1; d >= 0; --d) k = k * local_count[d] + (index[d] - local_first[d]);
+    return k;
+  };
+  auto in_local = [&](const int (&index)[Dim]) {
+    for (int d = 0; d < Dim; ++d)
+      if (index[d] < local_first[d] || index[d] >= local_first[d] + local_count[d]) return false;
+    return true;
   };
 
   // Grain shells: for each lattice point the grain whose surface is nearest
@@ -81,12 +114,12 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
   std::vector<std::array<double, Dim>> offset(owner.size());
   for (int g = 0; g < static_cast<int>(scene.grains.size()); ++g) {
     const Grain& grain = scene.grains[g];
-    int lo[Dim], hi[Dim];
+    int box_lo[Dim], box_hi[Dim];
     long long box = 1;
     for (int d = 0; d < Dim; ++d) {
-      lo[d] = static_cast<int>(std::floor((grain.centre[d] - grain.radius) / dx - 0.5));
-      hi[d] = static_cast<int>(std::ceil((grain.centre[d] + grain.radius) / dx - 0.5));
-      box *= hi[d] - lo[d] + 1;
+      box_lo[d] = static_cast<int>(std::floor((grain.centre[d] - grain.radius) / dx - 0.5));
+      box_hi[d] = static_cast<int>(std::ceil((grain.centre[d] + grain.radius) / dx - 0.5));
+      box *= box_hi[d] - box_lo[d] + 1;
     }
     for (long long b = 0; b < box; ++b) {
       int unwrapped[Dim], index[Dim];
@@ -95,8 +128,8 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
       double dist_sq = 0;
       std::array<double, Dim> from_centre{};
       for (int d = 0; d < Dim; ++d) {
-        const int span = hi[d] - lo[d] + 1;
-        unwrapped[d] = lo[d] + static_cast<int>(rest % span);
+        const int span = box_hi[d] - box_lo[d] + 1;
+        unwrapped[d] = box_lo[d] + static_cast<int>(rest % span);
         rest /= span;
         from_centre[d] = (unwrapped[d] + 0.5) * dx - grain.centre[d];
         dist_sq += from_centre[d] * from_centre[d];
@@ -108,7 +141,7 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
           inside_lattice = inside_lattice && index[d] >= first[d] && index[d] < first[d] + count[d];
         }
       }
-      if (!inside_lattice) continue;
+      if (!inside_lattice || !in_local(index)) continue;
       const double dist = std::sqrt(dist_sq);
       if (dist > grain.radius + on_surface) continue;
       const long long k = flat_index(index);
@@ -128,12 +161,12 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene) {
     int index[Dim];
     long long rest = flat;
     for (int d = 0; d < Dim; ++d) {
-      index[d] = first[d] + static_cast<int>(rest % count[d]);
-      rest /= count[d];
+      index[d] = local_first[d] + static_cast<int>(rest % local_count[d]);
+      rest /= local_count[d];
     }
     SeedParticle<Dim> s{};
     for (int d = 0; d < Dim; ++d) s.x[d] = (index[d] + 0.5) * dx;
-    s.id = flat;
+    s.id = global_id(index);
     s.kind = kFluid;
     if (channel && (index[1] < 0 || index[1] >= fluid_rows)) {
       const bool lower = index[1] < 0;

@@ -52,6 +52,12 @@ struct SceneConfig {
   std::vector<double> profile_sample_times;
 
   ProgressMode progress = ProgressMode::Auto;
+
+  // Sub-domains across MPI ranks: a process grid (empty: chosen from the
+  // cell's shape), with optional cuts per direction (the paper's adjusted
+  // sub-cell boundaries; empty: equal parts).
+  std::vector<int> process_grid;
+  std::array<std::vector<double>, 3> cuts;
   bool write_final_particles = false;  // particles.csv of the final state
 
   // Permeability: drive every direction in turn (full tensor) or only along the body force.

@@ -1,0 +1,58 @@
+#pragma once
+// The few collective operations the solver needs, so that it never calls MPI
+// itself. One process, MPI_COMM_SELF or any communicator: the same code.
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+namespace poresph {
+
+class Communicator {
+ public:
+  explicit Communicator(MPI_Comm comm = MPI_COMM_WORLD) : comm_(comm) {
+    MPI_Comm_rank(comm_, &rank_);
+    MPI_Comm_size(comm_, &size_);
+  }
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  MPI_Comm comm() const { return comm_; }
+
+  double sum(double x) const { return reduce(x, MPI_SUM); }
+  double max(double x) const { return reduce(x, MPI_MAX); }
+  long long sum(long long x) const {
+    long long r = 0;
+    MPI_Allreduce(&x, &r, 1, MPI_LONG_LONG, MPI_SUM, comm_);
+    return r;
+  }
+  int sum(int x) const { return static_cast<int>(sum(static_cast<long long>(x))); }
+  int max(int x) const {
+    int r = 0;
+    MPI_Allreduce(&x, &r, 1, MPI_INT, MPI_MAX, comm_);
+    return r;
+  }
+  bool any(bool x) const { return max(x ? 1 : 0) != 0; }
+
+  // Every rank's text, concatenated in rank order, on rank 0 (empty elsewhere).
+  std::string gather_text(const std::string& text) const {
+    const int length = static_cast<int>(text.size());
+    std::vector<int> lengths(size_), offsets(size_, 0);
+    MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, comm_);
+    int total = 0;
+    for (int r = 0; r < size_; ++r) offsets[r] = total, total += lengths[r];
+    std::string all(rank_ == 0 ? total : 0, '\0');
+    MPI_Gatherv(text.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, comm_);
+    return all;
+  }
+
+ private:
+  double reduce(double x, MPI_Op op) const {
+    double r = 0;
+    MPI_Allreduce(&x, &r, 1, MPI_DOUBLE, op, comm_);
+    return r;
+  }
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+};
+
+}  // namespace poresph

@@ -1,0 +1,292 @@
+#pragma once
+// Ghosts and migration across processes (MPI), the paper's staged exchange
+// (section 5) generalised to boxes that do not form a process grid.
+//
+// Stage d (x, then y, then z) sends each particle a process holds (owned, or
+// a ghost from an earlier stage) to every process q whose stage-d halo
+// region holds the particle, shifted by -L_d, 0 or +L_d along d:
+//   within the support width of q's box along d but outside it,
+//   inside q's box along later directions,
+//   within the width of q's box along earlier directions.
+// These regions tile each process's halo, and a ghost is sent only by its
+// canonical sender: the owner of the point that has the particle's own
+// coordinates along d and later directions and q's nearest coordinates along
+// earlier ones. So each ghost arrives exactly once; corners travel through
+// the second stage; a face may have any number of neighbours; a process
+// spanning a periodic direction sends to itself; boxes thinner than the
+// width receive from beyond their neighbours.
+//
+// build() makes the ghosts and records the routes; update() sends the
+// changing fields along the same routes; migrate() hands owned particles
+// that left the box to their new owners.
+#include <Kokkos_Core.hpp>
+#include <mpi.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "core/Particles.hpp"
+#include "parallel/Communicator.hpp"
+#include "parallel/Decomposition.hpp"
+
+namespace poresph {
+
+template <int Dim, class ExecSpace>
+class Halo {
+ public:
+  using MemorySpace = typename ExecSpace::memory_space;
+  using ParticleSet = Particles<Dim, MemorySpace>;
+  static_assert(Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible,
+                "the halo packs messages on the host");
+
+  Halo() = default;
+  Halo(const Communicator& comm, const Decomposition<Dim>& decomposition, double width)
+      : comm_(comm), decomposition_(decomposition), width_(width) {
+    for (int d = 0; d < Dim; ++d)
+      if (decomposition_.periodic()[d] && decomposition_.cell()[d] < width_) {
+        std::ostringstream msg;
+        msg << "periodic cell side " << d << " (" << decomposition_.cell()[d]
+            << ") is narrower than the kernel support 3h plus skin (" << width_ << ")";
+        throw std::invalid_argument(msg.str());
+      }
+  }
+
+  const Box<Dim>& box() const { return decomposition_.box(comm_.rank()); }
+
+  // Puts owned particles that left the cell through a periodic face back in;
+  // the start-of-step position moves with them (a wrap in the middle of a
+  // step must not be undone by the corrector).
+  void wrap(const ParticleSet& P) const {
+    const auto x = P.x, x_start = P.x_start;
+    for (int i = 0; i < P.owned; ++i)
+      for (int d = 0; d < Dim; ++d) {
+        if (!decomposition_.periodic()[d]) continue;
+        const double wrapped = wrap_coordinate(x(i, d), 0.0, decomposition_.cell()[d]);
+        x_start(i, d) += wrapped - x(i, d);
+        x(i, d) = wrapped;
+      }
+  }
+
+  // Sends owned particles outside this box to their owners (ghosts are
+  // dropped). Returns how many left.
+  int migrate(ParticleSet& P) {
+    P.ghosts = 0;
+    std::vector<Item> leaving;
+    std::vector<int> staying;
+    for (int i = 0; i < P.owned; ++i) {
+      double xi[Dim];
+      for (int d = 0; d < Dim; ++d) xi[d] = P.x(i, d);
+      const int q = decomposition_.owner(xi);
+      if (q < 0) throw std::runtime_error("particle " + std::to_string(P.id(i)) + " is outside every sub-domain");
+      if (q == comm_.rank()) staying.push_back(i);
+      else leaving.push_back({i, q, {}});
+    }
+    std::stable_sort(leaving.begin(), leaving.end(), [](const Item& a, const Item& b) { return a.to < b.to; });
+    Transfer transfer = exchange(P, leaving, Fields::Owned);
+    // Stable compaction: the particles that stay keep their order.
+    for (size_t k = 0; k < staying.size(); ++k)
+      if (staying[k] != static_cast<int>(k)) copy_particle(P, staying[k], static_cast<int>(k), Fields::Owned);
+    P.owned = static_cast<int>(staying.size());
+    P.reserve(P.owned + transfer.received());
+    unpack(P, transfer, P.owned, Fields::Owned);
+    P.owned += transfer.received();
+    return static_cast<int>(leaving.size());
+  }
+
+  // Replaces all ghosts; owned particles must be inside this box.
+  void build(ParticleSet& P) {
+    P.ghosts = 0;
+    stages_.clear();
+    const auto& me = box();
+    for (int d = 0; d < Dim; ++d) {
+      const int held = P.total();
+      std::vector<Item> items;
+      for (int i = 0; i < held; ++i) {
+        double x[Dim];
+        for (int e = 0; e < Dim; ++e) x[e] = P.x(i, e);
+        if (i < P.owned && deep_inside(me, x)) continue;  // nobody else needs it
+        for (int q = 0; q < decomposition_.ranks(); ++q)
+          for (int s = -1; s <= 1; ++s) {
+            if (s != 0 && !decomposition_.periodic()[d]) continue;
+            double shifted[Dim];
+            for (int e = 0; e < Dim; ++e) shifted[e] = x[e];
+            shifted[d] += s * decomposition_.cell()[d];
+            if (in_stage_region(decomposition_.box(q), shifted, d) && canonical_sender(q, x, d) == comm_.rank())
+              items.push_back({i, q, static_cast<double>(s) * decomposition_.cell()[d]});
+          }
+      }
+      std::stable_sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.to < b.to; });
+      Transfer transfer = exchange(P, items, Fields::Ghost, d);
+      P.reserve(P.total() + transfer.received());
+      unpack(P, transfer, P.total(), Fields::Ghost);
+      P.ghosts += transfer.received();
+      stages_.push_back({d, std::move(items), transfer.recv_counts});
+    }
+  }
+
+  // Sends the fields that change between rebuilds along the recorded routes.
+  void update(ParticleSet& P) {
+    int slot = P.owned;
+    for (const auto& stage : stages_) {
+      Transfer transfer = exchange(P, stage.items, Fields::Changing, stage.direction);
+      unpack(P, transfer, slot, Fields::Changing);
+      slot += transfer.received();
+    }
+  }
+
+  static double wrap_coordinate(double x, double lo, double hi) {
+    const double length = hi - lo;
+    if (x >= hi) x -= length;
+    else if (x < lo) {
+      x += length;
+      if (x >= hi) x = lo;
+    }
+    return x;
+  }
+
+ private:
+  enum class Fields { Ghost, Changing, Owned };
+  struct Item {
+    int index;     // local particle
+    int to;        // destination rank
+    double shift;  // along the stage's direction
+  };
+  struct Stage {
+    int direction;
+    std::vector<Item> items;
+    std::vector<int> recv_counts;
+  };
+  struct Transfer {
+    std::vector<double> data;
+    std::vector<int> recv_counts;
+    int width = 0;
+    int received() const {
+      int n = 0;
+      for (int c : recv_counts) n += c;
+      return n;
+    }
+  };
+
+  template <class F>
+  static void visit(const ParticleSet& P, Fields fields, F&& f) {
+    if (fields == Fields::Ghost) P.for_each_ghost_field(f);
+    else if (fields == Fields::Changing) P.for_each_changing_field(f);
+    else P.for_each_owned_field(f);
+  }
+  template <class View>
+  static int components(const View& v) {
+    return View::rank == 1 ? 1 : static_cast<int>(v.extent(1));
+  }
+  template <class View>
+  static double get(const View& v, int i, int c) {
+    if constexpr (View::rank == 1) return static_cast<double>(v(i));
+    else return static_cast<double>(v(i, c));
+  }
+  template <class View>
+  static void put(const View& v, int i, int c, double value) {
+    using T = typename View::non_const_value_type;
+    if constexpr (View::rank == 1) v(i) = static_cast<T>(value);
+    else v(i, c) = static_cast<T>(value);
+  }
+
+  static void copy_particle(const ParticleSet& P, int from, int to, Fields fields) {
+    visit(P, fields, [&](const auto& v) {
+      for (int c = 0; c < components(v); ++c) put(v, to, c, get(v, from, c));
+    });
+  }
+
+  // Packs the items (sorted by destination), exchanges counts and data.
+  Transfer exchange(const ParticleSet& P, const std::vector<Item>& items, Fields fields, int direction = 0) const {
+    Transfer t;
+    visit(P, fields, [&](const auto& v) { t.width += components(v); });
+    const int ranks = comm_.size();
+    std::vector<int> send_counts(ranks, 0);
+    for (const auto& it : items) ++send_counts[it.to];
+    std::vector<double> send(items.size() * t.width);
+    for (size_t k = 0; k < items.size(); ++k) {
+      int offset = 0;
+      visit(P, fields, [&](const auto& v) {
+        for (int c = 0; c < components(v); ++c) send[k * t.width + offset + c] = get(v, items[k].index, c);
+        offset += components(v);
+      });
+      // x is the first field of every group: apply the image shift.
+      send[k * t.width + direction] += items[k].shift;
+    }
+    t.recv_counts.assign(ranks, 0);
+    MPI_Alltoall(send_counts.data(), 1, MPI_INT, t.recv_counts.data(), 1, MPI_INT, comm_.comm());
+    std::vector<int> sc(ranks), sd(ranks), rc(ranks), rd(ranks);
+    int s_off = 0, r_off = 0;
+    for (int q = 0; q < ranks; ++q) {
+      sc[q] = send_counts[q] * t.width, sd[q] = s_off, s_off += sc[q];
+      rc[q] = t.recv_counts[q] * t.width, rd[q] = r_off, r_off += rc[q];
+    }
+    t.data.resize(r_off);
+    MPI_Alltoallv(send.data(), sc.data(), sd.data(), MPI_DOUBLE, t.data.data(), rc.data(), rd.data(), MPI_DOUBLE,
+                  comm_.comm());
+    return t;
+  }
+
+  void unpack(const ParticleSet& P, const Transfer& t, int first_slot, Fields fields) const {
+    const int n = t.received();
+    for (int k = 0; k < n; ++k) {
+      int offset = 0;
+      visit(P, fields, [&](const auto& v) {
+        for (int c = 0; c < components(v); ++c) put(v, first_slot + k, c, t.data[k * t.width + offset + c]);
+        offset += components(v);
+      });
+    }
+  }
+
+  bool deep_inside(const Box<Dim>& b, const double* x) const {
+    for (int d = 0; d < Dim; ++d)
+      if (x[d] < b.lo[d] + width_ || x[d] >= b.hi[d] - width_) return false;
+    return true;
+  }
+
+  bool in_stage_region(const Box<Dim>& q, const double* x, int d) const {
+    if (!(x[d] >= q.lo[d] - width_ && x[d] < q.hi[d] + width_)) return false;
+    if (x[d] >= q.lo[d] && x[d] < q.hi[d]) return false;  // inside along d: not a stage-d ghost
+    for (int e = 0; e < Dim; ++e) {
+      if (e == d) continue;
+      const double lo = e < d ? q.lo[e] - width_ : q.lo[e], hi = e < d ? q.hi[e] + width_ : q.hi[e];
+      if (!(x[e] >= lo && x[e] < hi)) return false;
+    }
+    return true;
+  }
+
+  // The owner of the point with x's coordinates along d and later directions
+  // and the nearest coordinates of q's box along earlier ones (x unshifted
+  // along d, wrapped into the cell along earlier ones).
+  int canonical_sender(int q, const double* x, int d) const {
+    const auto& b = decomposition_.box(q);
+    double z[Dim];
+    for (int e = 0; e < Dim; ++e) {
+      z[e] = x[e];
+      if (e < d) {
+        const double L = decomposition_.cell()[e];
+        double lo = b.lo[e], hi = b.hi[e];
+        // Nearest point of q's box, taken in the image of the box closest to x.
+        if (decomposition_.periodic()[e]) {
+          const double centre = 0.5 * (lo + hi);
+          const double k = std::round((x[e] - centre) / L);
+          lo += k * L, hi += k * L;
+          z[e] = std::clamp(x[e], lo, std::nextafter(hi, lo)) - k * L;
+        } else {
+          z[e] = std::clamp(x[e], lo, std::nextafter(hi, lo));
+        }
+      }
+    }
+    return decomposition_.owner(z);
+  }
+
+  Communicator comm_;
+  Decomposition<Dim> decomposition_;
+  double width_ = 0;
+  std::vector<Stage> stages_;
+};
+
+}  // namespace poresph
