@@ -63,7 +63,10 @@ void expect_same_on_any_number_of_ranks(const SceneConfig& scene, double stir_am
   const Communicator world;
   const auto distributed = run(scene, world, stir_amplitude);
   if (world.rank() != 0) return;
-  const auto single = run(scene, Communicator(MPI_COMM_SELF), stir_amplitude);
+  SceneConfig one_process = scene;  // same physics, the whole cell in one box
+  one_process.process_grid.clear();
+  for (auto& c : one_process.cuts) c.clear();
+  const auto single = run(one_process, Communicator(MPI_COMM_SELF), stir_amplitude);
   ASSERT_EQ(distributed.size(), single.size());
   double v_scale = 0;
   for (const auto& [id, s] : single) v_scale = std::max({v_scale, std::abs(s.v[0]), std::abs(s.v[1])});
@@ -109,6 +112,26 @@ TEST(MpiEquivalence, GrainAcrossThePeriodicCorner) {
   scene.body_force = {0.02, 0.01, 0};
   scene.shifting_coefficient = 2.0;
   expect_same_on_any_number_of_ranks(scene, 0.0);
+}
+
+}  // namespace
+}  // namespace poresph
+
+namespace poresph {
+namespace {
+
+// A process grid whose first boxes are thinner than the support 3h + skin:
+// their halos reach past the neighbouring box, and ghosts come from further.
+TEST(MpiEquivalence, BoxesThinnerThanTheSupport) {
+  SceneConfig scene = testing::periodic_box(2, 24);  // support 3h + skin = 0.133
+  const int ranks = Communicator().size();
+  scene.grid_decomposition = true;
+  scene.process_grid = {ranks, 1};
+  scene.cuts[0] = {0.0};
+  for (int r = 1; r < ranks; ++r) scene.cuts[0].push_back(0.06 * r);  // boxes 0.06 wide
+  scene.cuts[0].push_back(1.0);
+  scene.cuts[1] = {0.0, 1.0};
+  expect_same_on_any_number_of_ranks(scene, 0.05);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "core/Math.hpp"
 #include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
+#include "parallel/RcbDecomposition.hpp"
 #include "physics/Density.hpp"
 #include "physics/PredictorCorrector.hpp"
 
@@ -115,7 +116,9 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
   skin_ = scene.neighbour_skin * derived_.smoothing_length;
   const double support = kernel_.cutoff + skin_;  // ghosts and lists reach this far
-  halo_ = Halo<Dim, ExecSpace>(comm_, decompose<Dim>(scene, comm_.size()), support);
+  halo_ = Halo<Dim, ExecSpace>(
+      comm_, scene.grid_decomposition ? decompose<Dim>(scene, comm_.size()) : rcb_decomposition<Dim>(scene, comm_),
+      support);
   const auto& box = halo_.box();
   double box_lo[Dim], box_hi[Dim];
   for (int d = 0; d < Dim; ++d) {

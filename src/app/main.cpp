@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -68,7 +69,10 @@ int run(const CommandLine& cl, int rank) {
 
   poresph::RunOptions options;
   options.output_dir = cl.output_dir.empty() ? "poresph-" + scene.name : cl.output_dir;
-  options.progress_on_terminal = isatty(fileno(stdout));
+  // Under mpiexec a rank's stdout is a pseudo-terminal even when the
+  // launcher's output goes to a log: stay quiet there unless asked.
+  const bool under_mpiexec = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE");
+  options.progress_on_terminal = isatty(fileno(stdout)) && !under_mpiexec;
   if (rank == 0) {
     std::filesystem::create_directories(options.output_dir);
     poresph::write_parameters_xml(*parameters, options.output_dir + "/parameters_used.xml");

@@ -129,8 +129,25 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("End Time", 0.0, "REQUIRED. Simulated time to reach (s).", real_in(0.0, kHuge));
     s.set("Max Steps", 0, "Stop after this many steps at the latest; 0 = no limit.", int_in(0, 1 << 30));
     s.set("Progress", std::string("auto"),
-          "Progress line (step, time, % done, ETA): 'auto' = only on a terminal, 'always', 'never'.",
+          "Progress line (step, time, % done, ETA): 'auto' = only on a terminal and not under mpiexec, "
+          "'always', 'never'.",
           one_of({"auto", "always", "never"}));
+  }
+  {
+    auto& s = list->sublist("Parallel", false, "How the cell is divided among MPI processes.");
+    s.set("Decomposition", std::string("rcb"),
+          "'rcb': Zoltan2 recursive coordinate bisection weighted by the particles each box will hold; "
+          "'grid': the paper's Cartesian process grid.",
+          one_of({"rcb", "grid"}));
+    s.set("Process Grid", Array<int>(),
+          "'grid': processes per direction (their product is the number of ranks). Empty: the factorisation "
+          "whose boxes are closest to cubes.",
+          ints_in(1, 1 << 20));
+    s.set("X Cuts", Array<double>(),
+          "'grid': sub-cell boundaries along x from 0 to L_x (the paper's adjusted boundaries). Empty: equal.",
+          reals_in(0.0, kHuge));
+    s.set("Y Cuts", Array<double>(), "As X Cuts, along y.", reals_in(0.0, kHuge));
+    s.set("Z Cuts", Array<double>(), "As X Cuts, along z.", reals_in(0.0, kHuge));
   }
   {
     auto& s = list->sublist("Output", false, "What a run writes besides summary.json.");
@@ -373,6 +390,19 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.steady_window = permeability.get<double>("Steady Window");
 
   scene.write_final_particles = list.sublist("Output").get<bool>("Final Particles CSV");
+
+  const auto& parallel = list.sublist("Parallel");
+  scene.grid_decomposition = parallel.get<std::string>("Decomposition") == "grid";
+  const auto grid = parallel.get<Array<int>>("Process Grid");
+  scene.process_grid.assign(grid.begin(), grid.end());
+  const char* cut_names[3] = {"X Cuts", "Y Cuts", "Z Cuts"};
+  for (int d = 0; d < 3; ++d) {
+    const auto cuts = parallel.get<Array<double>>(cut_names[d]);
+    scene.cuts[d].assign(cuts.begin(), cuts.end());
+  }
+  if (!scene.grid_decomposition && (!scene.process_grid.empty() || !scene.cuts[0].empty() || !scene.cuts[1].empty() ||
+                                    !scene.cuts[2].empty()))
+    fail("Parallel/Process Grid and the cuts apply to Parallel/Decomposition = grid");
 
   const auto samples = list.sublist("Diagnostics").get<Array<double>>("Profile Sample Times");
   scene.profile_sample_times.assign(samples.begin(), samples.end());

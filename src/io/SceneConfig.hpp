@@ -56,6 +56,7 @@ struct SceneConfig {
   // Sub-domains across MPI ranks: a process grid (empty: chosen from the
   // cell's shape), with optional cuts per direction (the paper's adjusted
   // sub-cell boundaries; empty: equal parts).
+  bool grid_decomposition = false;  // the paper's process grid instead of Zoltan2's RCB
   std::vector<int> process_grid;
   std::array<std::vector<double>, 3> cuts;
   bool write_final_particles = false;  // particles.csv of the final state

@@ -259,27 +259,15 @@ class Halo {
   }
 
   // The owner of the point with x's coordinates along d and later directions
-  // and the nearest coordinates of q's box along earlier ones (x unshifted
-  // along d, wrapped into the cell along earlier ones).
+  // and the nearest coordinates of q's box along earlier ones. Along earlier
+  // directions x already carries its image shift and the stage region is
+  // tested against q's box as it is, so the nearest point is taken in that
+  // same frame: it lies in q's box, inside the cell, within the width of x.
   int canonical_sender(int q, const double* x, int d) const {
     const auto& b = decomposition_.box(q);
     double z[Dim];
-    for (int e = 0; e < Dim; ++e) {
-      z[e] = x[e];
-      if (e < d) {
-        const double L = decomposition_.cell()[e];
-        double lo = b.lo[e], hi = b.hi[e];
-        // Nearest point of q's box, taken in the image of the box closest to x.
-        if (decomposition_.periodic()[e]) {
-          const double centre = 0.5 * (lo + hi);
-          const double k = std::round((x[e] - centre) / L);
-          lo += k * L, hi += k * L;
-          z[e] = std::clamp(x[e], lo, std::nextafter(hi, lo)) - k * L;
-        } else {
-          z[e] = std::clamp(x[e], lo, std::nextafter(hi, lo));
-        }
-      }
-    }
+    for (int e = 0; e < Dim; ++e)
+      z[e] = e < d ? std::clamp(x[e], b.lo[e], std::nextafter(b.hi[e], b.lo[e])) : x[e];
     return decomposition_.owner(z);
   }
 

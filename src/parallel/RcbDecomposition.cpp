@@ -1,0 +1,99 @@
+// Kept in a file of its own: the Zoltan2 headers take half a minute to compile.
+#include "parallel/RcbDecomposition.hpp"
+
+#include <Teuchos_DefaultMpiComm.hpp>
+#include <Zoltan2_BasicVectorAdapter.hpp>
+#include <Zoltan2_PartitioningProblem.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "geometry/Lattice.hpp"
+
+namespace poresph {
+namespace {
+
+// "2,2,3": one binary cut per level where it can, so that Zoltan2's
+// multi-jagged partitioner does recursive coordinate bisection.
+std::string cuts_per_level(int parts) {
+  std::vector<int> factors;
+  for (int f = 2; f * f <= parts; ++f)
+    while (parts % f == 0) factors.push_back(f), parts /= f;
+  if (parts > 1) factors.push_back(parts);
+  std::string text;
+  for (size_t k = 0; k < factors.size(); ++k) text += (k ? "," : "") + std::to_string(factors[k]);
+  return text.empty() ? "1" : text;
+}
+
+}  // namespace
+
+template <int Dim>
+Decomposition<Dim> rcb_decomposition(const SceneConfig& scene, const Communicator& comm) {
+  std::array<double, Dim> cell{};
+  std::array<bool, Dim> periodic{};
+  for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d];
+  const int parts = comm.size();
+  if (parts == 1) {
+    std::array<std::vector<double>, Dim> whole;
+    for (int d = 0; d < Dim; ++d) whole[d] = {0.0, cell[d]};
+    return Decomposition<Dim>::cartesian(cell, periodic, whole);
+  }
+
+  // The particles-to-be of an x slab per rank: every lattice point is
+  // classified once, by one rank, and no rank holds them all.
+  double lo[Dim], hi[Dim];
+  for (int d = 0; d < Dim; ++d) lo[d] = -1e300, hi[d] = 1e300;
+  lo[0] = cell[0] * comm.rank() / parts;
+  hi[0] = comm.rank() + 1 == parts ? cell[0] : cell[0] * (comm.rank() + 1) / parts;
+  const auto seeds = fill_lattice<Dim>(scene, lo, hi);
+  const int n = static_cast<int>(seeds.size());
+  std::vector<double> coordinates(static_cast<size_t>(n) * Dim);
+  std::vector<long long> ids(n);
+  for (int i = 0; i < n; ++i) {
+    for (int d = 0; d < Dim; ++d) coordinates[i * Dim + d] = seeds[i].x[d];
+    ids[i] = seeds[i].id;
+  }
+
+  using Types = Zoltan2::BasicUserTypes<double, int, long long>;
+  using Adapter = Zoltan2::BasicVectorAdapter<Types>;
+  std::vector<const double*> entries;
+  std::vector<int> strides;
+  for (int d = 0; d < Dim; ++d) entries.push_back(coordinates.data() + d), strides.push_back(Dim);
+  std::vector<const double*> weights;
+  std::vector<int> weight_strides;
+  Adapter adapter(n, ids.data(), entries, strides, weights, weight_strides);
+
+  Teuchos::ParameterList parameters("zoltan2");
+  parameters.set("algorithm", std::string("multijagged"));
+  parameters.set("num_global_parts", parts);
+  parameters.set("mj_parts", cuts_per_level(parts));
+  parameters.set("mj_keep_part_boxes", true);
+  const auto teuchos_comm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm.comm()));
+  Zoltan2::PartitioningProblem<Adapter> problem(&adapter, &parameters, teuchos_comm);
+  problem.solve();
+
+  // Zoltan2's outer faces are the points' extent: extend them to the cell.
+  const auto& part_boxes = problem.getSolution().getPartBoxesView();
+  std::vector<Box<Dim>> boxes(parts);
+  std::array<double, Dim> low, high;
+  low.fill(INFINITY), high.fill(-INFINITY);
+  for (const auto& b : part_boxes)
+    for (int d = 0; d < Dim; ++d) low[d] = std::min(low[d], b.getlmins()[d]), high[d] = std::max(high[d], b.getlmaxs()[d]);
+  for (const auto& b : part_boxes) {
+    Box<Dim>& box = boxes.at(b.getpId());
+    for (int d = 0; d < Dim; ++d) {
+      box.lo[d] = b.getlmins()[d] <= low[d] ? (periodic[d] ? 0.0 : -INFINITY) : b.getlmins()[d];
+      box.hi[d] = b.getlmaxs()[d] >= high[d] ? (periodic[d] ? cell[d] : INFINITY) : b.getlmaxs()[d];
+    }
+  }
+  Decomposition<Dim> decomposition(boxes, cell, periodic);
+  decomposition.check(parts);
+  return decomposition;
+}
+
+template Decomposition<2> rcb_decomposition<2>(const SceneConfig&, const Communicator&);
+template Decomposition<3> rcb_decomposition<3>(const SceneConfig&, const Communicator&);
+
+}  // namespace poresph
