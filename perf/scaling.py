@@ -1,0 +1,140 @@
+#!/usr/bin/python3
+"""Strong and weak scaling over MPI ranks, as in Morris, Zhu & Fox (1999).
+
+    perf/scaling.py strong [--problems 1 2 3] [--spacings 0.001 0.0005 0.00025] [--ranks 1 2 4] [--steps 100] [--repeats 3]
+    perf/scaling.py weak   [--spacing 0.0005] [--ranks 1 2 4] [--steps 100] [--repeats 3]
+
+Strong: a fixed problem (the paper's problems I-III at its three
+resolutions) on 1..N ranks. Weak: problem I with the cell stretched along x
+so that every rank holds the same number of particles. Each point is the
+median of --repeats runs of --steps steps (time loop only, from
+summary.json). Writes scaling_strong.csv / scaling_weak.csv into --out and
+PNG plots of T per step and of the normalised time T* = T Nproc / (T0 Npart)
+(T0: time per particle per step of the largest problem-I run on one rank;
+constant T* = perfect scaling) into docs/figures. Runs with more ranks than
+cores are marked oversubscribed.
+"""
+import argparse
+import csv
+import json
+import os
+import statistics
+import subprocess
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+CORES = os.cpu_count()
+SCENES = {1: "problem1/problem1.xml", 2: "problem2/problem2.xml", 3: "problem3/problem3.xml"}
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1")
+
+
+def run(build, out, scene, ranks, steps, settings):
+    directory = os.path.join(out, "runs", f"{os.path.basename(scene)}-{ranks}-{abs(hash(tuple(settings))) % 10**8}")
+    cmd = ["mpiexec", "-n", str(ranks), "--bind-to", "core" if ranks <= CORES else "none",
+           os.path.join(build, "poresph"), os.path.join(ROOT, "input", scene), "--output", directory,
+           "--set", f"Run/Max Steps={steps}", "--set", "Run/Progress=never", "--set", "Permeability/Steady Tolerance=0"]
+    for s in settings:
+        cmd += ["--set", s]
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, env=ENV)
+    with open(os.path.join(directory, "summary.json")) as f:
+        return json.load(f)
+
+
+def measure(args, scene, ranks, settings):
+    times, summary = [], None
+    for _ in range(args.repeats):
+        summary = run(args.build, args.out, scene, ranks, args.steps, settings)
+        times.append(summary["wall_seconds"] / summary["steps"])
+    particles = summary["fluid_particles"] + summary["boundary_particles"]
+    return dict(ranks=ranks, particles=particles, seconds_per_step=statistics.median(times),
+                min_seconds_per_step=min(times), max_seconds_per_step=max(times),
+                oversubscribed=ranks > CORES)
+
+
+def write_csv(rows, path):
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def plot(rows, key, label, figure, title):
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for name in sorted({r[key] for r in rows}):
+        sel = sorted((r for r in rows if r[key] == name), key=lambda r: r["ranks"])
+        n = [r["ranks"] for r in sel]
+        axes[0].plot(n, [r["seconds_per_step"] for r in sel], "o-", label=f"{label} {name}")
+        axes[1].plot(n, [r["t_star"] for r in sel], "o-", label=f"{label} {name}")
+        for r in sel:
+            if r["oversubscribed"]:
+                for ax, y in ((axes[0], r["seconds_per_step"]), (axes[1], r["t_star"])):
+                    ax.plot(r["ranks"], y, "x", color="k", ms=9)
+    axes[0].set_yscale("log")
+    axes[0].set_ylabel("T, seconds per step")
+    axes[1].set_ylabel("T* = T Nproc / (T0 Npart)")
+    for ax in axes:
+        ax.set_xlabel(f"MPI ranks (x: more ranks than the {CORES} cores)")
+        ax.set_xticks(sorted({r["ranks"] for r in rows}))
+        ax.legend(fontsize=7)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(figure, dpi=120)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("mode", choices=["strong", "weak"])
+    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--out", default=os.path.join(ROOT, "build", "scaling"))
+    parser.add_argument("--problems", type=int, nargs="+", default=[1, 2, 3])
+    parser.add_argument("--spacings", type=float, nargs="+", default=[0.001, 0.0005, 0.00025])
+    parser.add_argument("--spacing", type=float, default=0.0005)
+    parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4])
+    parser.add_argument("--steps", type=int, default=100)
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    rows = []
+    if args.mode == "strong":
+        for problem in args.problems:
+            for dx in args.spacings:
+                for ranks in args.ranks:
+                    row = measure(args, SCENES[problem], ranks, [f"Discretization/Particle Spacing={dx!r}"])
+                    row.update(problem=problem, dx_over_L=dx / 0.1, series=f"{problem} dx={dx / 0.1:g}L")
+                    rows.append(row)
+                    print(f"problem {problem} dx {dx:g} ranks {ranks}: {row['seconds_per_step'] * 1e3:.2f} ms/step "
+                          f"({row['particles']} particles)", file=sys.stderr, flush=True)
+        base = [r for r in rows if r["problem"] == min(args.problems) and r["ranks"] == 1]
+        largest = max(base, key=lambda r: r["particles"])
+    else:
+        for ranks in args.ranks:
+            row = measure(args, SCENES[1], ranks, [f"Discretization/Particle Spacing={args.spacing!r}",
+                                                   f"Domain/Cell Size={{{0.1 * ranks!r}, 0.1}}"])
+            row.update(series=f"problem I, {row['particles'] // ranks} particles per rank")
+            rows.append(row)
+            print(f"weak ranks {ranks}: {row['seconds_per_step'] * 1e3:.2f} ms/step", file=sys.stderr, flush=True)
+        largest = rows[0]
+    t0 = largest["seconds_per_step"] / largest["particles"]
+    for r in rows:
+        r["t_star"] = r["seconds_per_step"] * r["ranks"] / (t0 * r["particles"])
+    write_csv(rows, os.path.join(args.out, f"scaling_{args.mode}.csv"))
+    plot(rows, "series", "problem" if args.mode == "strong" else "", os.path.join(ROOT, "docs", "figures", f"scaling_{args.mode}.png"),
+         f"{args.mode} scaling, median of {args.repeats} runs of {args.steps} steps, Kokkos Serial, one thread per rank")
+    print("| series | ranks | particles | ms per step (median, min-max) | speed-up | T* | oversubscribed |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        one = [q for q in rows if q["series"] == r["series"] and q["ranks"] == 1]
+        speedup = one[0]["seconds_per_step"] / r["seconds_per_step"] if one and args.mode == "strong" else float("nan")
+        print(f"| {r['series']} | {r['ranks']} | {r['particles']} | {r['seconds_per_step'] * 1e3:.2f} "
+              f"({r['min_seconds_per_step'] * 1e3:.2f}-{r['max_seconds_per_step'] * 1e3:.2f}) | {speedup:.2f} | "
+              f"{r['t_star']:.2f} | {'yes' if r['oversubscribed'] else ''} |")
+
+
+if __name__ == "__main__":
+    main()
