@@ -3,23 +3,12 @@
 // time and the steady state within 1 % of v_max.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
-#include "app/Run.hpp"
-#include "io/Parameters.hpp"
+#include "RunInput.hpp"
 
 namespace poresph {
 namespace {
 
-RunReport run_input(const std::string& file) {
-  auto parameters = read_parameters(std::string(PORESPH_INPUT_DIR) + "/" + file, {"Run/Progress=never"});
-  const SceneConfig scene = scene_from_parameters(*parameters);
-  RunOptions options;
-  options.output_dir = (std::filesystem::temp_directory_path() / ("poresph-test-" + scene.name)).string();
-  std::filesystem::create_directories(options.output_dir);
-  options.progress_on_terminal = false;
-  return run_scene(scene, options);
-}
+using testing::run_input;
 
 void expect_series_agreement(const RunReport& report) {
   ASSERT_TRUE(report.channel);

@@ -4,26 +4,12 @@
 // scene files until k is steady.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
-#include "app/Run.hpp"
-#include "io/Parameters.hpp"
+#include "RunInput.hpp"
 
 namespace poresph {
 namespace {
 
-RunReport run_input(const std::string& file, std::vector<std::string> overrides = {}) {
-  const std::string path = std::string(PORESPH_INPUT_DIR) + "/" + file;
-  overrides.push_back("Run/Progress=never");
-  auto parameters = read_parameters(path, overrides);
-  const SceneConfig scene =
-      scene_from_parameters(*parameters, std::filesystem::path(path).parent_path().string());
-  RunOptions options;
-  options.output_dir = (std::filesystem::temp_directory_path() / ("poresph-test-" + scene.name)).string();
-  std::filesystem::create_directories(options.output_dir);
-  options.progress_on_terminal = false;
-  return run_scene(scene, options);
-}
+using testing::run_input;
 
 TEST(Permeability, ChannelIsWidthSquaredOverTwelve) {
   // The Poiseuille scene at steady state: <u> = F L^2/(12 nu) over the cell.

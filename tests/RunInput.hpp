@@ -1,0 +1,25 @@
+#pragma once
+// Runs a scene file shipped in input/ as a user runs it (XML, --set
+// overrides, relative grain files) and returns what it measured.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "app/Run.hpp"
+#include "io/Parameters.hpp"
+
+namespace poresph::testing {
+
+inline RunReport run_input(const std::string& file, std::vector<std::string> overrides = {}) {
+  const std::string path = std::string(PORESPH_INPUT_DIR) + "/" + file;
+  overrides.push_back("Run/Progress=never");
+  auto parameters = read_parameters(path, overrides);
+  const SceneConfig scene = scene_from_parameters(*parameters, std::filesystem::path(path).parent_path().string());
+  RunOptions options;
+  options.output_dir = (std::filesystem::temp_directory_path() / ("poresph-test-" + scene.name)).string();
+  std::filesystem::create_directories(options.output_dir);
+  options.progress_on_terminal = false;
+  return run_scene(scene, options);
+}
+
+}  // namespace poresph::testing
