@@ -92,27 +92,4 @@ struct Particles {
   }
 };
 
-// Copies what a neighbour needs to see of particle `from` into slot `to`,
-// moving it by `shift` (a periodic image). Integration state stays behind:
-// ghosts are never integrated.
-template <int Dim, class MemorySpace>
-KOKKOS_INLINE_FUNCTION void copy_as_ghost(const Particles<Dim, MemorySpace>& P, int from, int to,
-                                          const double (&shift)[Dim]) {
-  for (int d = 0; d < Dim; ++d) {
-    P.x(to, d) = P.x(from, d) + shift[d];
-    P.v(to, d) = P.v(from, d);
-  }
-  P.rho(to) = P.rho(from);
-  P.p(to) = P.p(from);
-  P.pressure_term(to) = P.pressure_term(from);
-  P.inverse_density(to) = P.inverse_density(from);
-  P.m(to) = P.m(from);
-  P.kind(to) = P.kind(from);
-  P.id(to) = P.id(from);
-  if (P.has_surfaces) {
-    for (int d = 0; d < Dim; ++d) P.wall_vector(to, d) = P.wall_vector(from, d);
-    P.wall_scalar(to) = P.wall_scalar(from);
-  }
-}
-
 }  // namespace poresph
