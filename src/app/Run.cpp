@@ -335,9 +335,26 @@ JsonObject RunReport::to_json() const {
   return json;
 }
 
+template <class Space>
+RunReport run_on(const SceneConfig& scene, const RunOptions& options) {
+  return scene.dimension == 2 ? run<2, Space>(scene, options) : run<3, Space>(scene, options);
+}
+
 RunReport run_scene(const SceneConfig& scene, const RunOptions& options) {
-  using Space = Kokkos::DefaultHostExecutionSpace;
-  const RunReport report = scene.dimension == 2 ? run<2, Space>(scene, options) : run<3, Space>(scene, options);
+  RunReport report;
+  if (scene.backend == Backend::Serial) {
+    report = run_on<Kokkos::Serial>(scene, options);
+  } else if (scene.backend == Backend::OpenMP) {
+#ifdef KOKKOS_ENABLE_OPENMP
+    report = run_on<Kokkos::OpenMP>(scene, options);
+#else
+    throw std::invalid_argument(
+        "Run/Backend = openmp, but this build's Kokkos has no OpenMP backend (Debian's is Serial only); "
+        "build one with scripts/build-trilinos-openmp.sh and configure with cmake --preset openmp");
+#endif
+  } else {
+    report = run_on<Kokkos::DefaultHostExecutionSpace>(scene, options);
+  }
   if (Communicator().rank() == 0) write_file_atomically(options.output_dir + "/summary.json", report.to_json().str() + "\n");
   return report;
 }

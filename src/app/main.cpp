@@ -53,19 +53,8 @@ CommandLine parse_command_line(int argc, char** argv) {
   return cl;
 }
 
-int run(const CommandLine& cl, int rank) {
-  if (cl.help) {
-    if (rank == 0) std::cout << kUsage;
-    return 0;
-  }
-  if (cl.help_parameters) {
-    if (rank == 0) poresph::print_valid_parameters(std::cout);
-    return 0;
-  }
-  if (cl.scene_file.empty()) throw poresph::ParameterError(std::string("no scene file given\n") + kUsage);
-  auto parameters = poresph::read_parameters(cl.scene_file, cl.overrides);
-  const poresph::SceneConfig scene = poresph::scene_from_parameters(
-      *parameters, std::filesystem::absolute(cl.scene_file).parent_path().string());
+int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const poresph::SceneConfig& scene,
+        int rank) {
 
   poresph::RunOptions options;
   options.output_dir = cl.output_dir.empty() ? "poresph-" + scene.name : cl.output_dir;
@@ -75,7 +64,7 @@ int run(const CommandLine& cl, int rank) {
   options.progress_on_terminal = isatty(fileno(stdout)) && !under_mpiexec;
   if (rank == 0) {
     std::filesystem::create_directories(options.output_dir);
-    poresph::write_parameters_xml(*parameters, options.output_dir + "/parameters_used.xml");
+    poresph::write_parameters_xml(parameters, options.output_dir + "/parameters_used.xml");
   }
   const auto report = poresph::run_scene(scene, options);
   if (rank == 0)
@@ -99,11 +88,38 @@ int main(int argc, char** argv) {
     MPI_Finalize();
     return 2;
   }
-  int kokkos_argc = static_cast<int>(cl.kokkos_args.size());
-  Kokkos::initialize(kokkos_argc, cl.kokkos_args.data());
+  // The scene is read and checked before Kokkos starts: Run/Threads configures it.
+  Teuchos::RCP<Teuchos::ParameterList> parameters;
+  poresph::SceneConfig scene;
   try {
-    status = run(cl, rank);
+    if (cl.help || cl.help_parameters) {
+      if (rank == 0) {
+        if (cl.help) std::cout << kUsage;
+        else poresph::print_valid_parameters(std::cout);
+      }
+      MPI_Finalize();
+      return 0;
+    }
+    if (cl.scene_file.empty()) throw poresph::ParameterError(std::string("no scene file given\n") + kUsage);
+    parameters = poresph::read_parameters(cl.scene_file, cl.overrides);
+    scene = poresph::scene_from_parameters(*parameters,
+                                           std::filesystem::absolute(cl.scene_file).parent_path().string());
+  } catch (const std::exception& e) {
+    if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
+    MPI_Finalize();
+    return 2;
+  }
+  std::vector<char*> kokkos_args = cl.kokkos_args;
+  std::string threads_arg = "--kokkos-threads=" + std::to_string(scene.threads);
+  if (scene.threads > 0) kokkos_args.push_back(threads_arg.data());
+  int kokkos_argc = static_cast<int>(kokkos_args.size());
+  Kokkos::initialize(kokkos_argc, kokkos_args.data());
+  try {
+    status = run(cl, *parameters, scene, rank);
   } catch (const poresph::ParameterError& e) {
+    if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
+    status = 2;
+  } catch (const std::invalid_argument& e) {  // a scene the solver refuses before any work
     if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
     status = 2;
   } catch (const std::exception& e) {

@@ -128,6 +128,12 @@ RCP<ParameterList> make_valid_parameters() {
     auto& s = list->sublist("Run", false, "How long to run.");
     s.set("End Time", 0.0, "REQUIRED. Simulated time to reach (s).", real_in(0.0, kHuge));
     s.set("Max Steps", 0, "Stop after this many steps at the latest; 0 = no limit.", int_in(0, 1 << 30));
+    s.set("Backend", std::string("default"),
+          "Kokkos execution space of the kernels: 'serial', 'openmp' (a Kokkos built with OpenMP: "
+          "scripts/build-trilinos-openmp.sh) or 'default' (OpenMP where the build has it, else Serial).",
+          one_of({"default", "serial", "openmp"}));
+    s.set("Threads", 0, "Threads per process for the OpenMP backend; 0 = Kokkos's default (OMP_NUM_THREADS).",
+          int_in(0, 1024));
     s.set("Progress", std::string("auto"),
           "Progress line (step, time, % done, ETA): 'auto' = only on a terminal and not under mpiexec, "
           "'always', 'never'.",
@@ -363,6 +369,9 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.end_time = run.get<double>("End Time");
   if (!(scene.end_time > 0)) fail("Run/End Time must be positive");
   scene.max_steps = run.get<int>("Max Steps");
+  const auto backend = run.get<std::string>("Backend");
+  scene.backend = backend == "serial" ? Backend::Serial : backend == "openmp" ? Backend::OpenMP : Backend::Default;
+  scene.threads = run.get<int>("Threads");
   const auto progress = run.get<std::string>("Progress");
   scene.progress = progress == "always" ? ProgressMode::Always
                    : progress == "never" ? ProgressMode::Never

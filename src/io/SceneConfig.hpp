@@ -16,6 +16,7 @@ struct Grain {
   std::string origin;  // where it was defined, for messages: "grains.txt:12", "Grains/Inline #3"
 };
 enum class ProgressMode { Auto, Always, Never };
+enum class Backend { Default, Serial, OpenMP };
 
 struct SceneConfig {
   std::string name = "scene";
@@ -52,6 +53,8 @@ struct SceneConfig {
   std::vector<double> profile_sample_times;
 
   ProgressMode progress = ProgressMode::Auto;
+  Backend backend = Backend::Default;  // Kokkos execution space of the kernels
+  int threads = 0;                     // threads per process; 0 = Kokkos's default
 
   // Sub-domains across MPI ranks: a process grid (empty: chosen from the
   // cell's shape), with optional cuts per direction (the paper's adjusted
