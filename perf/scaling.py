@@ -8,7 +8,7 @@ Strong: a fixed problem (the paper's problems I-III at its three
 resolutions) on 1..N ranks. Weak: problem I with the cell stretched along x
 so that every rank holds the same number of particles. Each point is the
 median of --repeats runs of --steps steps (time loop only, from
-summary.json). Writes scaling_strong.csv / scaling_weak.csv into --out and
+summary.json), repeats interleaved across configurations. Writes scaling_strong.csv / scaling_weak.csv into --out and
 PNG plots of T per step and of the normalised time T* = T Nproc / (T0 Npart)
 (T0: time per particle per step of the largest problem-I run on one rank;
 constant T* = perfect scaling) into docs/figures. Runs with more ranks than
@@ -46,15 +46,24 @@ def run(build, out, scene, ranks, steps, settings):
         return json.load(f)
 
 
-def measure(args, scene, ranks, settings):
-    times, summary = [], None
+def measure_all(args, configs):
+    """configs: (key, scene, ranks, settings). Repeats are interleaved (every
+    configuration once, then again), so that a slow or quiet spell of the
+    shared machine does not fall on one configuration only."""
+    times = {c[0]: [] for c in configs}
+    summaries = {}
     for _ in range(args.repeats):
-        summary = run(args.build, args.out, scene, ranks, args.steps, settings)
-        times.append(summary["wall_seconds"] / summary["steps"])
-    particles = summary["fluid_particles"] + summary["boundary_particles"]
-    return dict(ranks=ranks, particles=particles, seconds_per_step=statistics.median(times),
-                min_seconds_per_step=min(times), max_seconds_per_step=max(times),
-                oversubscribed=ranks > CORES)
+        for key, scene, ranks, settings in configs:
+            summary = run(args.build, args.out, scene, ranks, args.steps, settings)
+            times[key].append(summary["wall_seconds"] / summary["steps"])
+            summaries[key] = summary
+    rows = {}
+    for key, scene, ranks, settings in configs:
+        s = summaries[key]
+        rows[key] = dict(ranks=ranks, particles=s["fluid_particles"] + s["boundary_particles"],
+                         seconds_per_step=statistics.median(times[key]), min_seconds_per_step=min(times[key]),
+                         max_seconds_per_step=max(times[key]), oversubscribed=ranks > CORES)
+    return rows
 
 
 def write_csv(rows, path):
@@ -102,20 +111,23 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     rows = []
     if args.mode == "strong":
-        for problem in args.problems:
-            for dx in args.spacings:
-                for ranks in args.ranks:
-                    row = measure(args, SCENES[problem], ranks, [f"Discretization/Particle Spacing={dx!r}"])
-                    row.update(problem=problem, dx_over_L=dx / 0.1, series=f"{problem} dx={dx / 0.1:g}L")
-                    rows.append(row)
-                    print(f"problem {problem} dx {dx:g} ranks {ranks}: {row['seconds_per_step'] * 1e3:.2f} ms/step "
-                          f"({row['particles']} particles)", file=sys.stderr, flush=True)
+        configs = [((problem, dx, ranks), SCENES[problem], ranks, [f"Discretization/Particle Spacing={dx!r}"])
+                   for problem in args.problems for dx in args.spacings for ranks in args.ranks]
+        measured = measure_all(args, configs)
+        for (problem, dx, ranks), *_ in configs:
+            row = measured[(problem, dx, ranks)]
+            row.update(problem=problem, dx_over_L=dx / 0.1, series=f"{problem} dx={dx / 0.1:g}L")
+            rows.append(row)
+            print(f"problem {problem} dx {dx:g} ranks {ranks}: {row['seconds_per_step'] * 1e3:.2f} ms/step "
+                  f"({row['particles']} particles)", file=sys.stderr, flush=True)
         base = [r for r in rows if r["problem"] == min(args.problems) and r["ranks"] == 1]
         largest = max(base, key=lambda r: r["particles"])
     else:
+        configs = [(ranks, SCENES[1], ranks, [f"Discretization/Particle Spacing={args.spacing!r}",
+                                               f"Domain/Cell Size={{{0.1 * ranks!r}, 0.1}}"]) for ranks in args.ranks]
+        measured = measure_all(args, configs)
         for ranks in args.ranks:
-            row = measure(args, SCENES[1], ranks, [f"Discretization/Particle Spacing={args.spacing!r}",
-                                                   f"Domain/Cell Size={{{0.1 * ranks!r}, 0.1}}"])
+            row = measured[ranks]
             row.update(series=f"problem I, {row['particles'] // ranks} particles per rank")
             rows.append(row)
             print(f"weak ranks {ranks}: {row['seconds_per_step'] * 1e3:.2f} ms/step", file=sys.stderr, flush=True)

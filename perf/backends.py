@@ -1,0 +1,116 @@
+#!/usr/bin/python3
+"""Backend comparison: problems I and III at dx = 0.005 and 0.0025 of the
+cell side on Kokkos Serial, OpenMP with 1 and 2 threads, and MPI with 2
+ranks x 1 thread, each repeated.
+
+    perf/backends.py [--build build-openmp] [--steps 100] [--repeats 5]
+
+Needs a build with an OpenMP Kokkos (scripts/build-trilinos-openmp.sh,
+cmake --preset openmp). Writes backends.csv into --out and the bar chart
+docs/figures/backends.png of particle-steps per second per core (median,
+with the min-max range as error bars), and prints the Markdown table.
+"""
+import argparse
+import csv
+import json
+import os
+import statistics
+import subprocess
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_PROC_BIND="false",
+           KOKKOS_DISABLE_WARNINGS="1")
+CONFIGS = [  # label, ranks, backend, threads
+    ("Serial", 1, "serial", 1),
+    ("OpenMP 1 thread", 1, "openmp", 1),
+    ("OpenMP 2 threads", 1, "openmp", 2),
+    ("MPI 2 ranks x 1 thread", 2, "serial", 1),
+]
+SCENES = {"I": "problem1/problem1.xml", "III": "problem3/problem3.xml"}
+
+
+def run(args, scene, dx, ranks, backend, threads, k):
+    out = os.path.join(args.out, "runs", f"{os.path.basename(scene)}-{dx}-{ranks}-{backend}-{threads}-{k}")
+    # One thread per rank: pin ranks to cores (unpinned ranks wander and lose
+    # their caches); OpenMP threads must not be pinned to one core.
+    binding = "core" if threads == 1 and ranks <= (os.cpu_count() or 1) else "none"
+    cmd = ["mpiexec", "-n", str(ranks), "--bind-to", binding, os.path.join(args.build, "poresph"),
+           os.path.join(ROOT, "input", scene), "--output", out,
+           "--set", f"Discretization/Particle Spacing={dx!r}", "--set", f"Run/Max Steps={args.steps}",
+           "--set", "Run/Progress=never", "--set", "Permeability/Steady Tolerance=0",
+           "--set", f"Run/Backend={backend}", "--set", f"Run/Threads={threads}"]
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, env=dict(ENV, OMP_NUM_THREADS=str(threads)))
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default=os.path.join(ROOT, "build-openmp"))
+    parser.add_argument("--out", default=os.path.join(ROOT, "build-openmp", "backends"))
+    parser.add_argument("--steps", type=int, default=100)
+    parser.add_argument("--repeats", type=int, default=5)
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    rows = []
+    for problem, scene in SCENES.items():
+        for dx in [0.0005, 0.00025]:
+            # Repeats interleave the configurations, so that a slow spell of the
+            # shared machine does not fall on one configuration only.
+            samples = {c[0]: [] for c in CONFIGS}
+            backend_seen = {}
+            for k in range(args.repeats):
+                for label, ranks, backend, threads in CONFIGS:
+                    s = run(args, scene, dx, ranks, backend, threads, k)
+                    cores = ranks * threads
+                    samples[label].append(s["particle_steps_per_second"] / cores)
+                    backend_seen[label] = (s["backend"], s["threads"], s["ranks"],
+                                           s["fluid_particles"] + s["boundary_particles"])
+            for label, ranks, backend, threads in CONFIGS:
+                values = samples[label]
+                rows.append(dict(problem=problem, dx_over_L=dx / 0.1, configuration=label, cores=ranks * threads,
+                                 particles=backend_seen[label][3],
+                                 per_core_median=statistics.median(values), per_core_min=min(values),
+                                 per_core_max=max(values), backend=backend_seen[label][0]))
+                print(f"problem {problem} dx {dx / 0.1:g}L {label}: {statistics.median(values):.3g} per core",
+                      file=sys.stderr, flush=True)
+    with open(os.path.join(args.out, "backends.csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+    groups = sorted({(r["problem"], r["dx_over_L"]) for r in rows}, key=lambda g: (g[0], -g[1]))
+    fig, ax = plt.subplots(figsize=(10, 4.5))
+    width = 0.8 / len(CONFIGS)
+    for i, (label, *_rest) in enumerate(CONFIGS):
+        sel = [next(r for r in rows if (r["problem"], r["dx_over_L"]) == g and r["configuration"] == label) for g in groups]
+        x = [j + i * width for j in range(len(groups))]
+        med = [r["per_core_median"] for r in sel]
+        err = [[m - r["per_core_min"] for m, r in zip(med, sel)], [r["per_core_max"] - m for m, r in zip(med, sel)]]
+        ax.bar(x, med, width, yerr=err, capsize=3, label=label)
+    ax.set_xticks([j + 0.4 - width / 2 for j in range(len(groups))])
+    ax.set_xticklabels([f"problem {p}, dx = {d:g} L" for p, d in groups])
+    ax.set_ylabel("particle-steps per second per core")
+    ax.set_title(f"median of {args.repeats} runs of {args.steps} steps (bars: min-max)", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(ROOT, "docs", "figures", "backends.png"), dpi=120)
+
+    print("| problem | dx/L | configuration | cores | particle-steps/s per core (median, min-max) | vs Serial (whole run) |")
+    print("|---|---|---|---|---|---|")
+    for r in rows:
+        serial = next(q for q in rows if q["problem"] == r["problem"] and q["dx_over_L"] == r["dx_over_L"]
+                      and q["configuration"] == "Serial")
+        speedup = r["per_core_median"] * r["cores"] / serial["per_core_median"]
+        print(f"| {r['problem']} | {r['dx_over_L']:g} | {r['configuration']} | {r['cores']} | "
+              f"{r['per_core_median']:.3g} ({r['per_core_min']:.3g}-{r['per_core_max']:.3g}) | {speedup:.2f} |")
+
+
+if __name__ == "__main__":
+    main()
