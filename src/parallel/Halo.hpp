@@ -124,7 +124,7 @@ class Halo {
       P.reserve(P.total() + transfer.received());
       unpack(P, transfer, P.total(), Fields::Ghost);
       P.ghosts += transfer.received();
-      stages_.push_back({d, std::move(items), transfer.recv_counts});
+      stages_.push_back({d, std::move(items)});
     }
   }
 
@@ -157,8 +157,7 @@ class Halo {
   };
   struct Stage {
     int direction;
-    std::vector<Item> items;
-    std::vector<int> recv_counts;
+    std::vector<Item> items;  // what this process sends, in destination order
   };
   struct Transfer {
     std::vector<double> data;
