@@ -12,20 +12,16 @@ with the min-max range as error bars), and prints the Markdown table.
 """
 import argparse
 import csv
-import json
 import os
 import statistics
-import subprocess
 import sys
 
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_PROC_BIND="false",
-           KOKKOS_DISABLE_WARNINGS="1")
+from poresph_runs import ROOT, run_poresph  # noqa: E402
+
 CONFIGS = [  # label, ranks, backend, threads
     ("Serial", 1, "serial", 1),
     ("OpenMP 1 thread", 1, "openmp", 1),
@@ -37,17 +33,10 @@ SCENES = {"I": "problem1/problem1.xml", "III": "problem3/problem3.xml"}
 
 def run(args, scene, dx, ranks, backend, threads, k):
     out = os.path.join(args.out, "runs", f"{os.path.basename(scene)}-{dx}-{ranks}-{backend}-{threads}-{k}")
-    # One thread per rank: pin ranks to cores (unpinned ranks wander and lose
-    # their caches); OpenMP threads must not be pinned to one core.
-    binding = "core" if threads == 1 and ranks <= (os.cpu_count() or 1) else "none"
-    cmd = ["mpiexec", "-n", str(ranks), "--bind-to", binding, os.path.join(args.build, "poresph"),
-           os.path.join(ROOT, "input", scene), "--output", out,
-           "--set", f"Discretization/Particle Spacing={dx!r}", "--set", f"Run/Max Steps={args.steps}",
-           "--set", "Run/Progress=never", "--set", "Permeability/Steady Tolerance=0",
-           "--set", f"Run/Backend={backend}", "--set", f"Run/Threads={threads}"]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, env=dict(ENV, OMP_NUM_THREADS=str(threads)))
-    with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f)
+    return run_poresph(args.build, scene, out,
+                       [f"Discretization/Particle Spacing={dx!r}", f"Run/Max Steps={args.steps}",
+                        "Permeability/Steady Tolerance=0", f"Run/Backend={backend}", f"Run/Threads={threads}"],
+                       ranks=ranks, threads=threads)
 
 
 def main():

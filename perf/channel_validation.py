@@ -10,9 +10,7 @@ into --out, the comparison plot docs/figures/channel_profiles.png from the
 """
 import argparse
 import csv
-import json
 import os
-import subprocess
 import sys
 
 import matplotlib
@@ -20,20 +18,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+from poresph_runs import ROOT, run_poresph  # noqa: E402
+
 WIDTH = 1e-3
 
 
 def run(build, scene, across, out):
-    directory = os.path.join(out, f"{scene}-{across}")
     dx = WIDTH / across
-    cmd = [os.path.join(build, "poresph"), os.path.join(ROOT, "input", f"{scene}.xml"),
-           "--set", f"Discretization/Particle Spacing={dx!r}",
-           "--set", "Run/Progress=never", "--output", directory]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-    with open(os.path.join(directory, "summary.json")) as f:
-        return directory, json.load(f)
+    return run_poresph(build, f"{scene}.xml", os.path.join(out, f"{scene}-{across}"),
+                       [f"Discretization/Particle Spacing={dx!r}"])
 
 
 def plot(out, figure):
@@ -69,7 +62,7 @@ def main():
     rows = []
     for scene in ["poiseuille", "couette"]:
         for across in [20, 40, 80]:
-            _, summary = run(args.build, scene, across, args.out)
+            summary = run(args.build, scene, across, args.out)
             for s in summary["profile_samples"]:
                 rows.append(dict(scene=scene, across=across, sample_time=s["sample_time"], error=s["error"],
                                  steps=summary["steps"], particles=summary["fluid_particles"] + summary["boundary_particles"],

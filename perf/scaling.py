@@ -16,34 +16,21 @@ cores are marked oversubscribed.
 """
 import argparse
 import csv
-import json
 import os
 import statistics
-import subprocess
 import sys
 
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
-CORES = os.cpu_count()
+from poresph_runs import CORES, ROOT, run_poresph  # noqa: E402
+
 SCENES = {1: "problem1/problem1.xml", 2: "problem2/problem2.xml", 3: "problem3/problem3.xml"}
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1")
-
-
 def run(build, out, scene, ranks, steps, settings):
-    directory = os.path.join(out, "runs", f"{os.path.basename(scene)}-{ranks}-{abs(hash(tuple(settings))) % 10**8}")
-    cmd = ["mpiexec", "-n", str(ranks), "--bind-to", "core" if ranks <= CORES else "none",
-           os.path.join(build, "poresph"), os.path.join(ROOT, "input", scene), "--output", directory,
-           "--set", f"Run/Max Steps={steps}", "--set", "Run/Progress=never", "--set", "Permeability/Steady Tolerance=0"]
-    for s in settings:
-        cmd += ["--set", s]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, env=ENV)
-    with open(os.path.join(directory, "summary.json")) as f:
-        return json.load(f)
+    directory = os.path.join(out, "runs", f"{os.path.basename(scene)}-{ranks}-{'-'.join(settings)}".replace("/", "_"))
+    return run_poresph(build, scene, directory, [f"Run/Max Steps={steps}", "Permeability/Steady Tolerance=0", *settings],
+                       ranks=ranks)
 
 
 def measure_all(args, configs):

@@ -11,25 +11,19 @@ convergence between successive resolutions, steps and wall time.
 """
 import argparse
 import csv
-import json
 import math
 import os
-import subprocess
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+from poresph_runs import ROOT, run_poresph
+
 DRAG = {5: 15.56, 10: 24.83, 20: 51.53, 30: 102.90, 40: 217.89, 50: 532.55, 60: 1763, 70: 13520}
 L = 0.1
 
 
 def run(build, fraction, dx, out):
-    directory = os.path.join(out, f"c{fraction:02d}-dx{dx:g}")
-    cmd = [os.path.join(build, "poresph"), os.path.join(ROOT, "input", "square_array", f"square_array_c{fraction:02d}.xml"),
-           "--set", f"Discretization/Particle Spacing={dx!r}", "--set", "Run/Progress=never", "--output", directory]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-    with open(os.path.join(directory, "summary.json")) as f:
-        return json.load(f)
+    return run_poresph(build, f"square_array/square_array_c{fraction:02d}.xml",
+                       os.path.join(out, f"c{fraction:02d}-dx{dx:g}"), [f"Discretization/Particle Spacing={dx!r}"])
 
 
 def main():

@@ -1,0 +1,29 @@
+"""Running poresph from the perf scripts: one scene of input/, --set
+overrides, on one process or under mpiexec; returns the run's summary.json."""
+import json
+import os
+import subprocess
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CORES = os.cpu_count() or 1
+# Open MPI as root and beyond the cores; quiet Kokkos about OMP_PROC_BIND.
+MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1", OMP_PROC_BIND="false", KOKKOS_DISABLE_WARNINGS="1")
+
+
+def run_poresph(build, scene, directory, settings=(), ranks=None, threads=1):
+    """Runs input/SCENE with the given "Sublist/Name=value" settings, writing
+    into DIRECTORY. ranks=None runs one process without mpiexec. Ranks of one
+    thread are bound to cores while there are cores for them (unbound ranks
+    wander and lose their caches); OpenMP threads are left unbound."""
+    cmd = []
+    if ranks is not None:
+        binding = "core" if threads == 1 and ranks <= CORES else "none"
+        cmd = ["mpiexec", "-n", str(ranks), "--bind-to", binding]
+    cmd += [os.path.join(build, "poresph"), os.path.join(ROOT, "input", scene), "--output", directory,
+            "--set", "Run/Progress=never"]
+    for setting in settings:
+        cmd += ["--set", setting]
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, env=dict(MPI_ENV, OMP_NUM_THREADS=str(threads)))
+    with open(os.path.join(directory, "summary.json")) as f:
+        return json.load(f)
