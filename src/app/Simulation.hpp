@@ -57,7 +57,6 @@ class Simulation {
   const SceneConfig& scene() const { return scene_; }
   ParticleSet& particles() { return particles_; }
   const ParticleSet& particles() const { return particles_; }
-  const ExecSpace& space() const { return space_; }
 
   // Neighbour-list rebuilds so far (the list is kept while particles move less than half the skin).
   long long neighbour_rebuilds() const { return rebuilds_; }
