@@ -1,13 +1,16 @@
 // Grains: reading, checks before any work, lattice filling, porosity.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include "diagnostics/SteadyState.hpp"
+#include "geometry/GrainMap.hpp"
 #include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
+#include "physics/GrainContact.hpp"
 
 namespace poresph {
 namespace {
@@ -112,6 +115,61 @@ TEST(Grains, LatticeFillingRespectsGrainsAcrossTheCorner) {
     }
   }
   for (int q = 0; q < 4; ++q) EXPECT_GT(boundary_near_corner[q], 0) << "quadrant " << q;
+}
+
+// The map lists, for every point, each grain containing it (periodic images
+// included); checked against a scan of all grains on a fine grid of points.
+TEST(Grains, MapFindsEveryGrainContainingAPoint) {
+  auto scene = unit_cell();
+  scene.grains = grains_from_list({0.05, 0.95, 0.2,   // across the corner
+                                   0.5, 0.5, 0.15,    // inside
+                                   0.98, 0.4, 0.1},   // across the x boundary
+                                  2);
+  const auto map = make_grain_map<2, Kokkos::HostSpace>(scene, 0.07);
+  int inside_points = 0;
+  for (int a = 0; a < 200; ++a)
+    for (int b = 0; b < 200; ++b) {
+      const double x[2] = {(a + 0.3) / 200.0 + (a % 3 == 0 ? 1.0 : 0.0), (b + 0.6) / 200.0 - (b % 5 == 0 ? 1.0 : 0.0)};
+      std::vector<int> listed;
+      map.for_each_grain_near(x, [&](int g) { listed.push_back(g); });
+      for (int g = 0; g < 3; ++g) {
+        const auto r = periodic_difference({x[0], x[1], 0}, scene.grains[g].centre, scene);
+        if (std::hypot(r[0], r[1]) >= scene.grains[g].radius) continue;
+        ++inside_points;
+        EXPECT_NE(std::find(listed.begin(), listed.end(), g), listed.end()) << "grain " << g << " at " << x[0] << ", " << x[1];
+      }
+    }
+  EXPECT_GT(inside_points, 5000);
+}
+
+// A fluid particle inside a grain goes back to the surface along the normal
+// and keeps only its tangential and outward velocity; one outside is untouched.
+TEST(Grains, PenetratingFluidIsPutBackOnTheSurface) {
+  auto scene = unit_cell();
+  scene.grains = grains_from_list({0.0, 0.0, 0.3}, 2);  // a quarter in each corner of the cell
+  const auto map = make_grain_map<2, Kokkos::HostSpace>(scene, 0.1);
+  Particles<2, Kokkos::HostSpace> P;
+  P.reserve(3);
+  P.owned = 3;
+  const double points[3][2] = {{0.99, 0.29}, {0.2, 0.2}, {0.5, 0.5}};  // inside (image), inside, outside
+  for (int i = 0; i < 3; ++i) {
+    P.kind(i) = kFluid;
+    P.x(i, 0) = points[i][0], P.x(i, 1) = points[i][1];
+    P.v(i, 0) = -1.0, P.v(i, 1) = -2.0;
+  }
+  const auto found = fluid_in_grains(Kokkos::DefaultHostExecutionSpace(), P, map, true, 1e-9);
+  EXPECT_EQ(found.particles, 2);
+  EXPECT_NEAR(found.max_depth, 0.3 - std::hypot(0.2, 0.2), 1e-14);
+  for (int i = 0; i < 2; ++i) {
+    const double rx = P.x(i, 0) - (i == 0 ? 1.0 : 0.0), ry = P.x(i, 1);
+    EXPECT_NEAR(std::hypot(rx, ry), 0.3 + 1e-9, 1e-14);
+    const double n[2] = {rx / 0.3, ry / 0.3};
+    EXPECT_NEAR(P.v(i, 0) * n[0] + P.v(i, 1) * n[1], 0.0, 1e-12);  // inward part removed
+    EXPECT_NEAR(-P.v(i, 0) * n[1] + P.v(i, 1) * n[0], -(-1.0 * n[1]) + (-2.0) * n[0], 1e-12);  // tangential kept
+  }
+  EXPECT_EQ(P.x(2, 0), 0.5);
+  EXPECT_EQ(P.v(2, 1), -2.0);
+  EXPECT_EQ(fluid_in_grains(Kokkos::DefaultHostExecutionSpace(), P, map, false, 0.0).particles, 0);
 }
 
 TEST(SteadyState, DetectsAPlateauOnlyAfterAFullWindow) {

@@ -210,16 +210,6 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     progress.update(label, sim.steps(), sim.time(), static_cast<double>(sim.steps()) / last_step);
   }
   const double loop_seconds = seconds_since(loop_start);
-  if (std::getenv("DUMP")) {
-    const auto& P = sim.particles();
-    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
-    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.v);
-    auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.rho);
-    auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
-    std::ofstream f(options.output_dir + "/particles.csv");
-    f << "x,y,vx,vy,rho,kind\n";
-    for (int i = 0; i < P.owned; ++i) f << x(i,0) << ',' << x(i,1) << ',' << v(i,0) << ',' << v(i,1) << ',' << rho(i) << ',' << kind(i) << '\n';
-  }
   progress.finish();
   check();
   if (channel) sample_profile(sim.time());
@@ -248,6 +238,9 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   report.neighbour_rebuilds += sim.neighbour_rebuilds();
   report.neighbours_per_particle = static_cast<double>(sim.neighbour_pairs()) / sim.particles().owned;
   report.channel = report.channel || channel;
+  const auto corrected = sim.grain_surface_corrections();
+  report.grain_surface_corrections += corrected.particles;
+  report.max_corrected_depth = std::max(report.max_corrected_depth, corrected.max_depth / scene.particle_spacing);
   if (measure_k) {
     const Vec<Dim> u = sim.superficial_velocity();
     const bool first = !report.has_permeability;
@@ -329,7 +322,9 @@ JsonObject RunReport::to_json() const {
   json.add("porosity", porosity);
   if (has_grains) {
     json.add("particles_inside_grains", particles_inside_grains)
-        .add("max_grain_penetration", max_grain_penetration);
+        .add("max_grain_penetration", max_grain_penetration)
+        .add("grain_surface_corrections", grain_surface_corrections)
+        .add("max_corrected_depth", max_corrected_depth);
     if (has_permeability) json.add("reynolds_number", reynolds_number);
   }
   return json;

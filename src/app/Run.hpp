@@ -48,8 +48,12 @@ struct RunReport {
   bool has_grains = false;
   double porosity = 1.0;
   double reynolds_number = 0;           // mean pore velocity x mean grain diameter / nu
-  int particles_inside_grains = 0;      // most fluid particles found inside grains at any check
+  long long particles_inside_grains = 0;     // most fluid particles found inside grains at any check
   double max_grain_penetration = 0;     // deepest of them at any check, in particle spacings
+  // Fluid particles put back on a grain surface after a step (GrainContact.hpp),
+  // summed over steps, and the deepest they had gone, in particle spacings.
+  long long grain_surface_corrections = 0;
+  double max_corrected_depth = 0;
 
   JsonObject to_json() const;
 };

@@ -135,13 +135,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   shifting_ = ShiftingParameters{scene.shifting_coefficient, derived_.smoothing_length * derived_.time_step,
                                  0.05 * scene.particle_spacing};
   check_grains(scene.grains, scene);
-  grains_ = decltype(grains_)("grains", scene.grains.size());
-  auto grains = Kokkos::create_mirror_view(grains_);
-  for (size_t g = 0; g < scene.grains.size(); ++g) {
-    for (int d = 0; d < Dim; ++d) grains(g, d) = scene.grains[g].centre[d];
-    grains(g, Dim) = scene.grains[g].radius;
-  }
-  Kokkos::deep_copy(grains_, grains);
+  if (!scene.grains.empty()) grain_map_ = make_grain_map<Dim, MemorySpace>(scene, kernel_.cutoff);
 
   const auto seeds = fill_lattice<Dim>(scene, box_lo, box_hi);
   load_seeds<Dim, ExecSpace>(seeds, scene.density, scene.particle_spacing, particles_);
@@ -208,6 +202,11 @@ void Simulation<Dim, ExecSpace>::step() {
   compute_rates();
   correct_full_step(space_, particles_, dt);
   if (particles_.has_shifting) apply_shifting(space_, particles_);
+  if (!grain_map_.empty()) {
+    const auto pushed = fluid_in_grains(space_, particles_, grain_map_, true, 1e-6 * scene_.particle_spacing);
+    surface_corrections_ += pushed.particles;
+    deepest_correction_ = std::max(deepest_correction_, pushed.max_depth);
+  }
   ++steps_;
   time_ = steps_ * dt;  // not a running sum: no drift of the clock over 10^5 steps
   // Particles only change hands at rebuilds, but a lost one must stop the run
@@ -262,42 +261,18 @@ Vec<Dim> Simulation<Dim, ExecSpace>::superficial_velocity() const {
 }
 
 template <int Dim, class ExecSpace>
-typename Simulation<Dim, ExecSpace>::GrainPenetration Simulation<Dim, ExecSpace>::fluid_inside_grains() const {
-  GrainPenetration result;
-  if (grains_.extent(0) == 0) return result;
-  const auto x = particles_.x;
-  const auto kind = particles_.kind;
-  const auto grains = grains_;
-  const int ngrains = static_cast<int>(grains_.extent(0));
-  double side[Dim];
-  bool periodic[Dim];
-  for (int d = 0; d < Dim; ++d) side[d] = scene_.cell_size[d], periodic[d] = scene_.periodic[d];
-  Kokkos::parallel_reduce(
-      "poresph::fluid_inside_grains", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
-      KOKKOS_LAMBDA(int i, int& count, double& deepest) {
-        if (kind(i) != kFluid) return;
-        double depth = 0;
-        for (int g = 0; g < ngrains; ++g) {
-          double dist_sq = 0;
-          for (int d = 0; d < Dim; ++d) {
-            double r = x(i, d) - grains(g, d);
-            if (periodic[d]) r -= side[d] * math::floor(r / side[d] + 0.5);  // nearest image
-            dist_sq += r * r;
-          }
-          const double radius = grains(g, Dim);
-          if (dist_sq < radius * radius) {
-            const double below = radius - math::sqrt(dist_sq);
-            depth = below > depth ? below : depth;
-          }
-        }
-        if (depth > 0) {
-          ++count;
-          if (depth > deepest) deepest = depth;
-        }
-      },
-      result.particles, Kokkos::Max<double>(result.max_depth));
+GrainPenetration Simulation<Dim, ExecSpace>::fluid_inside_grains() const {
+  auto result = fluid_in_grains(space_, particles_, grain_map_, false, 0.0);
   result.particles = comm_.sum(result.particles);
   result.max_depth = comm_.max(result.max_depth);
+  return result;
+}
+
+template <int Dim, class ExecSpace>
+GrainPenetration Simulation<Dim, ExecSpace>::grain_surface_corrections() const {
+  GrainPenetration result;
+  result.particles = comm_.sum(surface_corrections_);
+  result.max_depth = comm_.max(deepest_correction_);
   return result;
 }
 

@@ -11,10 +11,12 @@
 #include "core/Kernel.hpp"
 #include "core/Particles.hpp"
 #include "core/Vec.hpp"
+#include "geometry/GrainMap.hpp"
 #include "io/SceneConfig.hpp"
 #include "parallel/Communicator.hpp"
 #include "parallel/Decomposition.hpp"
 #include "parallel/Halo.hpp"
+#include "physics/GrainContact.hpp"
 #include "physics/PairRates.hpp"
 #include "physics/TimeStep.hpp"
 
@@ -70,13 +72,12 @@ class Simulation {
   double max_density_variation() const;
   // Darcy's superficial velocity <u> = (1/V_cell) sum over fluid of (m/rho) v.
   Vec<Dim> superficial_velocity() const;
-  // Fluid particles whose position lies inside a grain (0 in a correct run),
-  // and how deep the deepest one is.
-  struct GrainPenetration {
-    int particles = 0;
-    double max_depth = 0;
-  };
+  // Fluid particles whose position lies inside a grain now (0 in a correct
+  // run), and how deep the deepest one is.
   GrainPenetration fluid_inside_grains() const;
+  // Particles put back on a grain surface after a step (summed over steps),
+  // and the deepest they had gone.
+  GrainPenetration grain_surface_corrections() const;
 
  private:
   // Pressure of owned particles, then ghosts at the current positions: a
@@ -100,7 +101,9 @@ class Simulation {
   long long rebuilds_ = 0;
   Vec<Dim> search_lo_, search_hi_;  // cell extended by the support: where ghosts and walls live
   Vec<Dim> body_force_;
-  Kokkos::View<double* [Dim + 1], MemorySpace> grains_;  // centre, radius
+  GrainMap<Dim, MemorySpace> grain_map_;
+  long long surface_corrections_ = 0;  // on this process
+  double deepest_correction_ = 0.0;
   FluidProperties fluid_;
   ShiftingParameters shifting_;
   // Subtracted from p = c^2 rho in the momentum equation. A uniform pressure
