@@ -5,11 +5,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <limits>
+#include <optional>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 
+#include "app/Output.hpp"
 #include "app/Simulation.hpp"
 #include "core/ExecutionSpaces.hpp"
 #include "diagnostics/ChannelFlow.hpp"
@@ -122,9 +126,15 @@ int force_axis(const SceneConfig& scene) {
   return axis;
 }
 
+// Set by the SIGINT/SIGTERM handler, read by the time loop.
+volatile std::sig_atomic_t stop_signal = 0;
+
+extern "C" void request_stop(int signal_number) { stop_signal = signal_number; }
+
 // One run of the scene as given (drive_axis < 0) or with |F| along drive_axis.
 template <int Dim, class ExecSpace>
-void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunReport& report) {
+void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunReport& report,
+              const CheckpointInfo* resume_from) {
   double force_norm = 0;
   for (int d = 0; d < Dim; ++d) force_norm += scene.body_force[d] * scene.body_force[d];
   force_norm = std::sqrt(force_norm);
@@ -135,10 +145,19 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   const int axis = force_axis(scene);
 
   const auto setup_start = Clock::now();
-  Simulation<Dim, ExecSpace> sim(scene);
+  const Communicator world;
+  using Sim = Simulation<Dim, ExecSpace>;
+  Sim sim(scene, ExecSpace(), world, resume_from ? Sim::Start::Empty : Sim::Start::Lattice,
+          resume_from ? checkpoint_boxes<Dim>(*resume_from, world.size()) : std::vector<Box<Dim>>{});
+  if (resume_from) {
+    load_checkpoint(sim, options.restart_file, *resume_from);
+    report.restarted_from_step = sim.steps();
+  }
   report.setup_seconds += seconds_since(setup_start);
   const bool root = sim.communicator().rank() == 0;
   const double dt = sim.time_step();
+  // Appended to, not replaced, when a run continues from a checkpoint.
+  const auto open_mode = resume_from ? std::ios::app : std::ios::trunc;
 
   // Channel start-up profiles (body force along x or moving walls).
   const bool channel = scene.walls == WallType::Channel && drive_axis <= 0;
@@ -147,11 +166,12 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   std::vector<double> samples = scene.profile_sample_times;
   std::sort(samples.begin(), samples.end());
   size_t next_sample = 0;
+  while (next_sample < samples.size() && sim.time() >= samples[next_sample] - 0.5 * dt) ++next_sample;
   std::ofstream profile_csv;
   if (channel && root) {
-    profile_csv.open(options.output_dir + "/profiles.csv");
+    profile_csv.open(options.output_dir + "/profiles.csv", std::ios::out | open_mode);
     profile_csv.precision(10);
-    profile_csv << "sample_time,time,y,v_x,v_x_series\n";
+    if (!resume_from) profile_csv << "sample_time,time,y,v_x,v_x_series\n";
   }
   auto sample_profile = [&](double sample_time) {
     const double e = channel_profile_error(sim, reference, sample_time, profile_csv);
@@ -163,17 +183,22 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   const bool measure_k = axis >= 0 && scene.kinematic_viscosity > 0;
   const double window = scene.steady_window > 0 ? scene.steady_window : scene.end_time / 20;
   SteadyStateDetector detector(window, scene.steady_tolerance);
+  if (resume_from)
+    detector.restore(resume_from->state.steady_first_time, resume_from->state.steady_times,
+                     resume_from->state.steady_values);
   const long long check_interval = std::clamp(static_cast<long long>(window / (20 * dt)), 1LL, 100LL);
   bool steady = false;
   auto permeability = [&](const Vec<Dim>& u, int i) { return scene.kinematic_viscosity * u[i] / force_norm; };
   std::ofstream history;
   if (measure_k && root) {
     const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
-    history.open(options.output_dir + "/permeability_history" + suffix + ".csv");
+    history.open(options.output_dir + "/permeability_history" + suffix + ".csv", std::ios::out | open_mode);
     history.precision(10);
-    history << "step,time";
-    for (int i = 0; i < Dim; ++i) history << ",k" << "xyz"[i] << "xyz"[axis];
-    history << ",relative_change\n";
+    if (!resume_from) {
+      history << "step,time";
+      for (int i = 0; i < Dim; ++i) history << ",k" << "xyz"[i] << "xyz"[axis];
+      history << ",relative_change\n";
+    }
   }
   auto check = [&]() {
     const auto inside = sim.fluid_inside_grains();
@@ -188,6 +213,37 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     history << ',' << detector.relative_change() << '\n';
   };
 
+  // Field files, and checkpoints with what a restart needs to go on.
+  const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
+  FieldWriter<Dim, ExecSpace> fields(scene, options.output_dir, suffix);
+  const bool write_fields = scene.field_interval > 0;
+  if (resume_from)
+    fields.add_earlier_frames(resume_from->state.frame_steps, resume_from->state.frame_times,
+                              sim.fluid_particles() + sim.boundary_particles());
+  else if (write_fields)
+    fields.write(sim);
+  double next_field_time =
+      write_fields ? (std::floor(sim.time() / scene.field_interval + 0.5) + 1) * scene.field_interval : INFINITY;
+  const std::string checkpoint_path = options.output_dir + "/checkpoint.h5";
+  auto checkpoint = [&](bool rates_valid) {
+    RunState state;
+    state.drive_axis = drive_axis;
+    for (int j = 0; j < Dim; ++j) {
+      if (!report.driven[j] || j == axis) continue;
+      state.completed_columns.push_back(j);
+      for (int i = 0; i < Dim; ++i) state.completed_columns.push_back(report.permeability[i][j]);
+      state.completed_columns.push_back(report.steady);
+    }
+    for (const auto& [t, k] : detector.samples()) state.steady_times.push_back(t), state.steady_values.push_back(k);
+    state.steady_first_time = detector.first_time();
+    state.frame_steps = fields.frame_steps();
+    state.frame_times = fields.frame_times();
+    state.max_density_variation = report.max_density_variation;
+    state.particles_inside_grains = static_cast<double>(report.particles_inside_grains);
+    state.max_grain_penetration = report.max_grain_penetration;
+    write_checkpoint(sim, checkpoint_path, state, options.parameters_xml, rates_valid);
+  };
+
   const bool show_progress = root && (scene.progress == ProgressMode::Always ||
                                      (scene.progress == ProgressMode::Auto && options.progress_on_terminal));
   ProgressLine progress(show_progress);
@@ -196,33 +252,65 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   const long long steps_to_end = std::max(1LL, static_cast<long long>(std::llround(scene.end_time / dt)));
   const long long last_step = scene.max_steps > 0 ? std::min(steps_to_end, scene.max_steps) : steps_to_end;
   const bool stop_when_steady = measure_k && scene.steady_tolerance > 0;
+  // A signal is seen by one process; all stop together at the next agreement.
+  constexpr long long kSignalCheckInterval = 10;
+  const long long first_step = sim.steps();
   const auto loop_start = Clock::now();
-  while (sim.steps() < last_step) {
-    sim.step();
-    // Sample at the first step at or past each requested time; the series is
-    // evaluated at the particles' own time, so no interpolation enters.
-    while (channel && next_sample < samples.size() && sim.time() >= samples[next_sample] - 0.5 * dt)
-      sample_profile(samples[next_sample++]);
-    if (sim.steps() % check_interval == 0) {
-      check();
-      if (stop_when_steady && steady) break;
+  try {
+    while (sim.steps() < last_step) {
+      if (sim.steps() + 1 == options.inject_nan_at_step) sim.poison_next_step();
+      sim.step();
+      // Sample at the first step at or past each requested time; the series is
+      // evaluated at the particles' own time, so no interpolation enters.
+      while (channel && next_sample < samples.size() && sim.time() >= samples[next_sample] - 0.5 * dt)
+        sample_profile(samples[next_sample++]);
+      if (sim.steps() % check_interval == 0) {
+        check();
+        if (stop_when_steady && steady) break;
+      }
+      if (sim.time() >= next_field_time - 0.5 * dt) {
+        fields.write(sim);
+        next_field_time += scene.field_interval;
+      }
+      if (scene.checkpoint_interval > 0 && sim.steps() % scene.checkpoint_interval == 0) checkpoint(true);
+      if (sim.steps() % kSignalCheckInterval == 0 && sim.communicator().any(stop_signal != 0)) {
+        const int signal_number = sim.communicator().max(static_cast<int>(stop_signal));
+        progress.finish();
+        checkpoint(true);
+        report.stopped_by = "signal";
+        report.steps = sim.steps();
+        report.simulated_time = sim.time();
+        throw RunInterrupted("stopped by " + std::string(signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
+                                 " at step " + std::to_string(sim.steps()) + ", t = " + std::to_string(sim.time()) +
+                                 " s; the state is in " + checkpoint_path,
+                             signal_number);
+      }
+      progress.update(label, sim.steps(), sim.time(), static_cast<double>(sim.steps()) / last_step);
     }
-    progress.update(label, sim.steps(), sim.time(), static_cast<double>(sim.steps()) / last_step);
+  } catch (const SimulationFailure& failure) {
+    progress.finish();
+    sim.rewind_failed_step();
+    checkpoint(false);
+    report.stopped_by = "failure";
+    report.steps = sim.steps();
+    report.simulated_time = sim.time();
+    report.failure = std::string(failure.what()) + "; the last good state (step " + std::to_string(sim.steps()) +
+                     ") is in " + checkpoint_path;
+    throw SimulationFailure(report.failure, failure.step, failure.time);
   }
   const double loop_seconds = seconds_since(loop_start);
   progress.finish();
   check();
   if (channel) sample_profile(sim.time());
-  if (scene.write_final_particles) {
-    const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
-    write_particles_csv(sim, options.output_dir + "/particles" + suffix + ".csv");
-  }
+  if (scene.write_final_particles) write_particles_csv(sim, options.output_dir + "/particles" + suffix + ".csv");
+  if (write_fields && fields.frame_steps().back() != sim.steps()) fields.write(sim);
 
   const auto& derived = sim.derived();
   report.dimension = Dim;
   report.fluid_particles = sim.fluid_particles();
   report.boundary_particles = sim.boundary_particles();
   report.steps += sim.steps();
+  report.timed_steps += sim.steps() - first_step;
   report.simulated_time += sim.time();
   report.stopped_by = stop_when_steady && steady ? "steady_state"
                       : sim.steps() >= steps_to_end ? "end_time"
@@ -253,6 +341,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     report.steady = (first || report.steady) && steady;
     report.steady_relative_change = std::max(report.steady_relative_change, detector.relative_change());
   }
+  if (scene.final_checkpoint) checkpoint(true);
 }
 
 template <int Dim, class ExecSpace>
@@ -261,24 +350,72 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   report.scene = scene.name;
   report.has_grains = !scene.grains.empty();
   report.porosity = porosity(scene.grains, scene);
-  if (scene.permeability_tensor) {
-    for (int axis = 0; axis < Dim; ++axis) run_once<Dim, ExecSpace>(scene, axis, options, report);
-  } else {
-    run_once<Dim, ExecSpace>(scene, -1, options, report);
+  std::optional<CheckpointInfo> resume_from;
+  if (!options.restart_file.empty()) {
+    resume_from = read_checkpoint_info(options.restart_file, MPI_COMM_WORLD);
+    if (resume_from->dimension != Dim)
+      throw std::invalid_argument("--restart " + options.restart_file + ": the checkpoint is " +
+                                  std::to_string(resume_from->dimension) + "D, the scene " + std::to_string(Dim) +
+                                  "D");
+    const auto& st = resume_from->state;
+    report.max_density_variation = st.max_density_variation;
+    report.particles_inside_grains = static_cast<long long>(st.particles_inside_grains);
+    report.max_grain_penetration = st.max_grain_penetration;
+    // Columns of the tensor already finished before the checkpoint.
+    for (size_t k = 0; k + Dim + 2 <= st.completed_columns.size(); k += Dim + 2) {
+      const int j = static_cast<int>(st.completed_columns[k]);
+      report.has_permeability = report.driven[j] = true;
+      for (int i = 0; i < Dim; ++i) report.permeability[i][j] = st.completed_columns[k + 1 + i];
+      report.steady = st.completed_columns[k + Dim + 1] != 0;
+    }
+  }
+  const CheckpointInfo* pending = resume_from ? &*resume_from : nullptr;
+  auto run_axis = [&](int axis) {
+    if (pending && pending->state.drive_axis != axis) return;  // finished before the checkpoint
+    run_once<Dim, ExecSpace>(scene, axis, options, report, pending);
+    pending = nullptr;
+  };
+  auto write_summary = [&]() {
+    if (Communicator().rank() == 0)
+      write_file_atomically(options.output_dir + "/summary.json", report.to_json().str() + "\n");
+  };
+  try {
+    if (scene.permeability_tensor) {
+      if (pending && pending->state.drive_axis < 0)
+        throw std::invalid_argument("--restart: the checkpoint is of a run without Permeability/Tensor");
+      for (int axis = 0; axis < Dim; ++axis) run_axis(axis);
+    } else {
+      if (pending && pending->state.drive_axis >= 0)
+        throw std::invalid_argument("--restart: the checkpoint is of a Permeability/Tensor run");
+      run_axis(-1);
+    }
+  } catch (const SimulationFailure&) {
+    write_summary();  // what was measured up to the failure, and the failure itself
+    throw;
+  } catch (const RunInterrupted&) {
+    write_summary();
+    throw;
   }
   report.particle_steps_per_second =
-      report.wall_seconds > 0 ? (report.fluid_particles + report.boundary_particles) * report.steps / report.wall_seconds
-                              : 0.0;
+      report.wall_seconds > 0
+          ? (report.fluid_particles + report.boundary_particles) * report.timed_steps / report.wall_seconds
+          : 0.0;
   if (report.has_grains && report.has_permeability) {
     double speed = 0, diameter = 0;
     for (int d = 0; d < Dim; ++d) speed += report.superficial_velocity[d] * report.superficial_velocity[d];
     for (const auto& g : scene.grains) diameter += 2 * g.radius / scene.grains.size();
     report.reynolds_number = std::sqrt(speed) / report.porosity * diameter / scene.kinematic_viscosity;
   }
+  write_summary();
   return report;
 }
 
 }  // namespace
+
+void install_stop_signal_handlers() {
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+}
 
 JsonObject RunReport::to_json() const {
   JsonObject json;
@@ -288,6 +425,7 @@ JsonObject RunReport::to_json() const {
       .add("boundary_particles", boundary_particles)
       .add("steps", steps)
       .add("simulated_time", simulated_time)
+      .add("poresph_version", std::string(PORESPH_VERSION))
       .add("stopped_by", stopped_by)
       .add("time_step", time_step)
       .add("smoothing_length", smoothing_length)
@@ -319,6 +457,8 @@ JsonObject RunReport::to_json() const {
         .add("steady", steady)
         .add("steady_relative_change", steady_relative_change);
   }
+  if (!failure.empty()) json.add("failure", failure);
+  if (restarted_from_step >= 0) json.add("restarted_from_step", restarted_from_step);
   json.add("porosity", porosity);
   if (has_grains) {
     json.add("particles_inside_grains", particles_inside_grains)
@@ -333,6 +473,22 @@ JsonObject RunReport::to_json() const {
 template <class Space>
 RunReport run_on(const SceneConfig& scene, const RunOptions& options) {
   return scene.dimension == 2 ? run<2, Space>(scene, options) : run<3, Space>(scene, options);
+}
+
+std::string backend_for(const SceneConfig& scene) {
+#ifdef KOKKOS_ENABLE_OPENMP
+  if (scene.backend == Backend::OpenMP) return backend_name<Kokkos::OpenMP>();
+#endif
+  if (scene.backend == Backend::Serial) return backend_name<Kokkos::Serial>();
+  return backend_name<Kokkos::DefaultHostExecutionSpace>();
+}
+
+int threads_for(const SceneConfig& scene) {
+#ifdef KOKKOS_ENABLE_OPENMP
+  if (scene.backend == Backend::OpenMP) return Kokkos::OpenMP::concurrency();
+#endif
+  if (scene.backend == Backend::Serial) return 1;
+  return Kokkos::DefaultHostExecutionSpace::concurrency();
 }
 
 RunReport run_scene(const SceneConfig& scene, const RunOptions& options) {
@@ -350,7 +506,6 @@ RunReport run_scene(const SceneConfig& scene, const RunOptions& options) {
   } else {
     report = run_on<Kokkos::DefaultHostExecutionSpace>(scene, options);
   }
-  if (Communicator().rank() == 0) write_file_atomically(options.output_dir + "/summary.json", report.to_json().str() + "\n");
   return report;
 }
 

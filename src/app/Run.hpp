@@ -1,6 +1,7 @@
 #pragma once
 // Runs a scene from start to end and reports it: the time loop, the
 // diagnostics sampled along the way, the progress line and summary.json.
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -12,7 +13,20 @@ namespace poresph {
 struct RunOptions {
   std::string output_dir;
   bool progress_on_terminal = true;  // stdout is a terminal
+  std::string restart_file;          // a checkpoint to continue from (empty: start afresh)
+  std::string parameters_xml;        // the parameter list in use, stored in checkpoints
+  long long inject_nan_at_step = -1;  // testing the failure path: this step ends with a NaN velocity
 };
+
+// A run stopped by SIGINT or SIGTERM after writing its checkpoint.
+struct RunInterrupted : std::runtime_error {
+  RunInterrupted(const std::string& message, int signal_number_)
+      : std::runtime_error(message), signal_number(signal_number_) {}
+  int signal_number;
+};
+
+// Installs the SIGINT/SIGTERM handlers that ask the time loop to stop.
+void install_stop_signal_handlers();
 
 struct ProfileSample {
   double requested_time;  // as asked in Diagnostics/Profile Sample Times (or the end)
@@ -26,8 +40,11 @@ struct RunReport {
   int dimension = 0;
   long long fluid_particles = 0, boundary_particles = 0;
   long long steps = 0;
+  long long timed_steps = 0;  // steps run by this process (after a restart: since it)
   double simulated_time = 0, time_step = 0, smoothing_length = 0, sound_speed = 0;
-  std::string stopped_by;
+  std::string stopped_by;  // end_time, max_steps, steady_state, failure, signal
+  std::string failure;     // what stopped a failed run
+  long long restarted_from_step = -1;
   double wall_seconds = 0, setup_seconds = 0, particle_steps_per_second = 0;
   int ranks = 1, threads = 1;
   std::string backend;
@@ -57,6 +74,10 @@ struct RunReport {
 
   JsonObject to_json() const;
 };
+
+// The execution space a scene runs on, and its threads per process (after Kokkos::initialize).
+std::string backend_for(const SceneConfig& scene);
+int threads_for(const SceneConfig& scene);
 
 // Runs the scene on the default host execution space; writes
 // output_dir/summary.json (and profiles.csv for channel scenes).

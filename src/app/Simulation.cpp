@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -106,7 +107,8 @@ Decomposition<Dim> decompose(const SceneConfig& scene, int ranks) {
 }
 
 template <int Dim, class ExecSpace>
-Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace& space, const Communicator& comm)
+Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace& space, const Communicator& comm,
+                                       Start start, const std::vector<Box<Dim>>& boxes)
     : scene_(scene),
       space_(space),
       comm_(comm),
@@ -116,9 +118,18 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
   skin_ = scene.neighbour_skin * derived_.smoothing_length;
   const double support = kernel_.cutoff + skin_;  // ghosts and lists reach this far
-  halo_ = Halo<Dim, ExecSpace>(
-      comm_, scene.grid_decomposition ? decompose<Dim>(scene, comm_.size()) : rcb_decomposition<Dim>(scene, comm_),
-      support);
+  Decomposition<Dim> decomposition;
+  if (!boxes.empty()) {
+    std::array<double, Dim> cell{};
+    std::array<bool, Dim> periodic{};
+    for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d];
+    decomposition = Decomposition<Dim>(boxes, cell, periodic);
+    decomposition.check(comm_.size());
+  } else {
+    decomposition =
+        scene.grid_decomposition ? decompose<Dim>(scene, comm_.size()) : rcb_decomposition<Dim>(scene, comm_);
+  }
+  halo_ = Halo<Dim, ExecSpace>(comm_, decomposition, support);
   const auto& box = halo_.box();
   double box_lo[Dim], box_hi[Dim];
   for (int d = 0; d < Dim; ++d) {
@@ -136,6 +147,10 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
                                  0.05 * scene.particle_spacing};
   check_grains(scene.grains, scene);
   if (!scene.grains.empty()) grain_map_ = make_grain_map<Dim, MemorySpace>(scene, kernel_.cutoff);
+
+  const double h = derived_.smoothing_length, dt = derived_.time_step;
+  health_limits_ = HealthLimits{scene.density, scene.density_variation_limit, 0.25 * h / dt, h / (16 * dt * dt)};
+  if (start == Start::Empty) return;
 
   const auto seeds = fill_lattice<Dim>(scene, box_lo, box_hi);
   load_seeds<Dim, ExecSpace>(seeds, scene.density, scene.particle_spacing, particles_);
@@ -176,6 +191,11 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
   space_.fence();
   halo_.wrap(particles_);
   halo_.migrate(particles_);
+  build_neighbourhood();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::build_neighbourhood() {
   halo_.build(particles_);
   cells_.build(space_, particles_.x, particles_.total(), search_lo_, search_hi_, kernel_.cutoff + skin_);
   neighbours_.build(space_, cells_, particles_.x, particles_.owned, kernel_.cutoff + skin_);
@@ -207,19 +227,171 @@ void Simulation<Dim, ExecSpace>::step() {
     surface_corrections_ += pushed.particles;
     deepest_correction_ = std::max(deepest_correction_, pushed.max_depth);
   }
+  if (poison_next_step_ && particles_.owned > 0) {
+    Kokkos::deep_copy(Kokkos::subview(particles_.v, 0, 0), std::numeric_limits<double>::quiet_NaN());
+    poison_next_step_ = false;
+  }
   ++steps_;
   time_ = steps_ * dt;  // not a running sum: no drift of the clock over 10^5 steps
-  // Particles only change hands at rebuilds, but a lost one must stop the run
-  // the step it happens; one integer reduction per step is cheap.
-  const long long total = comm_.sum(static_cast<long long>(particles_.owned));
-  if (total != total_count_)
-    throw std::runtime_error("particle count changed from " + std::to_string(total_count_) + " to " +
-                             std::to_string(total) + " at step " + std::to_string(steps_));
+  check_step();
   if (scene_.resummation_interval > 0 && steps_ % scene_.resummation_interval == 0) {
     refresh_neighbourhood();
     resum_fluid_density(space_, particles_, neighbours_, kernel_);
   }
   space_.fence();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::check_step() {
+  // Particles only change hands at rebuilds, but a lost one must stop the run
+  // the step it happens; so must a broken state. One reduction over the
+  // particles and one small MPI reduction a step cover both.
+  const HealthCounts local = count_health_problems(space_, particles_, health_limits_);
+  long long totals[1 + kHealthCauses];
+  totals[0] = particles_.owned;
+  for (int c = 0; c < kHealthCauses; ++c) totals[1 + c] = local.count[c];
+  comm_.sum(totals, 1 + kHealthCauses);
+  if (totals[0] != total_count_)
+    throw SimulationFailure("particle count changed from " + std::to_string(total_count_) + " to " +
+                                std::to_string(totals[0]) + " at step " + std::to_string(steps_),
+                            steps_, time_);
+  HealthCounts global;
+  for (int c = 0; c < kHealthCauses; ++c) global.count[c] = totals[1 + c];
+  if (global.total() > 0) report_failure(global);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::report_failure(const HealthCounts& counts) {
+  int cause = 0;
+  while (counts.count[cause] == 0) ++cause;
+  // The particle with the smallest id among those with the first cause, wherever it lives.
+  const int index = first_particle_with(space_, particles_, health_limits_, cause);
+  auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.id);
+  const long long mine = index >= 0 ? id(index) : std::numeric_limits<long long>::max();
+  const long long chosen = comm_.min(mine);
+  std::vector<double> where(3 * Dim + 2, 0.0);  // x, v, dvdt, rho, on its owner only (summed)
+  if (index >= 0 && mine == chosen) {
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
+    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.v);
+    auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.dvdt);
+    auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.rho);
+    for (int d = 0; d < Dim; ++d) where[d] = x(index, d), where[Dim + d] = v(index, d), where[2 * Dim + d] = a(index, d);
+    where[3 * Dim] = rho(index);
+    where[3 * Dim + 1] = 1;
+  }
+  comm_.sum(where.data(), static_cast<int>(where.size()));
+  std::ostringstream msg;
+  msg.precision(6);
+  msg << "step " << steps_ << ", t = " << time_ << " s: " << kHealthCauseNames[cause] << " (" << counts.count[cause]
+      << " particle" << (counts.count[cause] == 1 ? "" : "s") << "); particle " << chosen << " at (";
+  for (int d = 0; d < Dim; ++d) msg << (d ? ", " : "") << where[d];
+  msg << ") with velocity (";
+  for (int d = 0; d < Dim; ++d) msg << (d ? ", " : "") << where[Dim + d];
+  msg << ") m/s, acceleration (";
+  for (int d = 0; d < Dim; ++d) msg << (d ? ", " : "") << where[2 * Dim + d];
+  msg << ") m/s^2, density " << where[3 * Dim] << " kg/m^3";
+  if (cause == kDensityVariation) msg << " (limit " << health_limits_.density_variation << " of rho0)";
+  if (cause == kSpeedLimit) msg << " (limit h/(4 dt) = " << health_limits_.speed << " m/s)";
+  if (cause == kAccelerationLimit) msg << " (limit h/(16 dt^2) = " << health_limits_.acceleration << " m/s^2)";
+  throw SimulationFailure(msg.str(), steps_, time_);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::rewind_failed_step() {
+  const auto owned = std::make_pair(0, particles_.owned);
+  Kokkos::deep_copy(space_, Kokkos::subview(particles_.x, owned, Kokkos::ALL),
+                    Kokkos::subview(particles_.x_start, owned, Kokkos::ALL));
+  Kokkos::deep_copy(space_, Kokkos::subview(particles_.v, owned, Kokkos::ALL),
+                    Kokkos::subview(particles_.v_start, owned, Kokkos::ALL));
+  Kokkos::deep_copy(space_, Kokkos::subview(particles_.rho, owned), Kokkos::subview(particles_.rho_start, owned));
+  space_.fence();
+  --steps_;
+  time_ = steps_ * derived_.time_step;
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::resume(long long steps, const typename ParticleSet::Vector& x_at_build,
+                                        bool rates_valid) {
+  steps_ = steps;
+  time_ = steps_ * derived_.time_step;
+  const auto owned = std::make_pair(0, particles_.owned);
+  if (x_at_build.extent(0) > 0) {
+    // Rebuild the halo and lists from the positions they were built from,
+    // then put the current positions back: the same lists, in the same order.
+    auto current = typename ParticleSet::Vector("resume_positions", particles_.owned);
+    Kokkos::deep_copy(space_, current, Kokkos::subview(particles_.x, owned, Kokkos::ALL));
+    Kokkos::deep_copy(space_, Kokkos::subview(particles_.x, owned, Kokkos::ALL),
+                      Kokkos::subview(x_at_build, owned, Kokkos::ALL));
+    space_.fence();
+    build_neighbourhood();
+    Kokkos::deep_copy(space_, Kokkos::subview(particles_.x, owned, Kokkos::ALL), current);
+    space_.fence();
+  } else {
+    built_ = false;  // the next refresh wraps, migrates and builds
+  }
+  long long fluid = 0;
+  const auto kind = particles_.kind;
+  Kokkos::parallel_reduce(
+      "poresph::count_fluid", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      KOKKOS_LAMBDA(int i, long long& n) { n += kind(i) == kFluid; }, fluid);
+  fluid_count_ = comm_.sum(fluid);
+  total_count_ = comm_.sum(static_cast<long long>(particles_.owned));
+  if (rates_valid) {
+    update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_);
+    if (!built_) refresh_neighbourhood();
+    space_.fence();
+    halo_.update(particles_);
+  } else {
+    compute_rates();
+  }
+  space_.fence();
+}
+
+template <int Dim, class ExecSpace>
+GridBlock<Dim> Simulation<Dim, ExecSpace>::interpolate_to_grid(const std::vector<int>& points,
+                                                              std::vector<double>& values) {
+  // Ghosts to the current state without a rebuild, so that writing output
+  // never changes when the lists are rebuilt (and so the run's bits).
+  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_);
+  space_.fence();
+  halo_.update(particles_);
+  GridBlock<Dim> block;
+  const auto& box = halo_.box();
+  for (int d = 0; d < Dim; ++d) {
+    block.spacing[d] = scene_.cell_size[d] / points[d];
+    // Nodes (i + 1/2) spacing inside [lo, hi) of this box (clipped to the cell).
+    const double lo = std::max(box.lo[d], 0.0), hi = std::min(box.hi[d], scene_.cell_size[d]);
+    const long long first = static_cast<long long>(std::ceil(lo / block.spacing[d] - 0.5));
+    const long long end = static_cast<long long>(std::ceil(hi / block.spacing[d] - 0.5));
+    block.first[d] = std::max(0LL, first);
+    block.count[d] = std::max(0LL, std::min<long long>(end, points[d]) - block.first[d]);
+  }
+  Kokkos::View<double**, MemorySpace> grid("grid_values", block.nodes(), Dim + 2);
+  if (block.nodes() > 0)
+    poresph::interpolate_to_grid(space_, particles_, cells_, kernel_, grain_map_, block, grid);
+  space_.fence();
+  auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), grid);
+  values.assign(host.data(), host.data() + host.size());
+  return block;
+}
+
+template <int Dim, class ExecSpace>
+Kokkos::View<int*, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>::grain_ids() const {
+  Kokkos::View<int*, MemorySpace> ids("grain_ids", particles_.owned);
+  Kokkos::deep_copy(space_, ids, -1);
+  if (grain_map_.empty()) return ids;
+  const auto Q = particles_;
+  const auto map = grain_map_;
+  const double tolerance = 1e-6 * scene_.particle_spacing;
+  Kokkos::parallel_for(
+      "poresph::grain_ids", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned), KOKKOS_LAMBDA(int i) {
+        if (Q.kind(i) != kGrainBoundary) return;
+        double x[Dim], offset[Dim];
+        for (int d = 0; d < Dim; ++d) x[d] = Q.x(i, d), offset[d] = Q.wall_vector(i, d);
+        ids(i) = map.grain_with_offset(x, offset, tolerance);
+      });
+  space_.fence();
+  return ids;
 }
 
 template <int Dim, class ExecSpace>

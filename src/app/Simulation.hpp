@@ -5,6 +5,9 @@
 #include <Kokkos_Core.hpp>
 
 #include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "core/CellList.hpp"
 #include "core/NeighbourList.hpp"
@@ -12,11 +15,13 @@
 #include "core/Particles.hpp"
 #include "core/Vec.hpp"
 #include "geometry/GrainMap.hpp"
+#include "diagnostics/Health.hpp"
 #include "io/SceneConfig.hpp"
 #include "parallel/Communicator.hpp"
 #include "parallel/Decomposition.hpp"
 #include "parallel/Halo.hpp"
 #include "physics/GrainContact.hpp"
+#include "physics/GridInterpolation.hpp"
 #include "physics/PairRates.hpp"
 #include "physics/TimeStep.hpp"
 
@@ -38,14 +43,41 @@ DerivedParameters derive_parameters(const SceneConfig& scene);
 template <int Dim>
 Decomposition<Dim> decompose(const SceneConfig& scene, int ranks);
 
+// A step whose result is not a solution (diagnostics/Health.hpp): what, where, when.
+struct SimulationFailure : std::runtime_error {
+  SimulationFailure(const std::string& message, long long step_, double time_)
+      : std::runtime_error(message), step(step_), time(time_) {}
+  long long step;
+  double time;
+};
+
 template <int Dim, class ExecSpace>
 class Simulation {
  public:
   using MemorySpace = typename ExecSpace::memory_space;
   using ParticleSet = Particles<Dim, MemorySpace>;
 
+  // A fresh run starts from the lattice, on boxes from the scene's
+  // decomposition. A restart passes the saved boxes (empty: decompose for
+  // this number of processes) and Start::Empty, loads the saved particles
+  // into particles() and calls resume().
+  enum class Start { Lattice, Empty };
   explicit Simulation(const SceneConfig& scene, const ExecSpace& space = ExecSpace(),
-                      const Communicator& comm = Communicator());
+                      const Communicator& comm = Communicator(), Start start = Start::Lattice,
+                      const std::vector<Box<Dim>>& boxes = {});
+
+  // Continues from loaded particles at `steps`. With x_at_build (the saved
+  // positions at the last neighbour-list build, same processes and order)
+  // the halo and lists are rebuilt exactly as they were, so the run goes on
+  // bit for bit; without (extent 0), particles go to their owners and the
+  // lists are built afresh. rates_valid: dvdt and drhodt are the rates the
+  // next predictor uses; otherwise they are evaluated at the loaded state.
+  void resume(long long steps, const typename ParticleSet::Vector& x_at_build, bool rates_valid);
+  // Testing the failure path: the next step ends with a NaN velocity.
+  void poison_next_step() { poison_next_step_ = true; }
+  // After a SimulationFailure: back to the state at the start of the failed
+  // step (positions, velocities, densities; the rates are not kept).
+  void rewind_failed_step();
 
   // One predictor-corrector step of size time_step().
   void step();
@@ -59,6 +91,17 @@ class Simulation {
   const SceneConfig& scene() const { return scene_; }
   ParticleSet& particles() { return particles_; }
   const ParticleSet& particles() const { return particles_; }
+
+  const Decomposition<Dim>& decomposition() const { return halo_.decomposition(); }
+  const typename ParticleSet::Vector& positions_at_build() const { return x_at_build_; }
+
+  // Velocity, pressure and solid flag on this process's block of a grid of
+  // `points` nodes per direction over the cell (physics/GridInterpolation.hpp),
+  // node-major, x fastest; the block is returned too.
+  GridBlock<Dim> interpolate_to_grid(const std::vector<int>& points, std::vector<double>& values);
+
+  // Per owned particle, the grain a grain-boundary particle belongs to; -1 for the others.
+  Kokkos::View<int*, MemorySpace> grain_ids() const;
 
   // Neighbour-list rebuilds so far (the list is kept while particles move less than half the skin).
   long long neighbour_rebuilds() const { return rebuilds_; }
@@ -85,6 +128,11 @@ class Simulation {
   // half the skin since the last build, otherwise the ghosts updated in place.
   void refresh_neighbourhood();
   bool moved_beyond_skin() const;
+  // Halo, cells and neighbour list for the owned particles where they are now.
+  void build_neighbourhood();
+  // Stops the run if the step left a particle count change or an unhealthy particle.
+  void check_step();
+  [[noreturn]] void report_failure(const HealthCounts& counts);
 
   SceneConfig scene_;
   ExecSpace space_;
@@ -111,6 +159,8 @@ class Simulation {
   // particle arrangement it exerts spurious forces proportional to itself
   // (docs/validation.md): (1 - background) c^2 rho0.
   double reference_pressure_ = 0.0;
+  HealthLimits health_limits_{};
+  bool poison_next_step_ = false;
   long long fluid_count_ = 0, total_count_ = 0;
   double time_ = 0.0;
   long long steps_ = 0;

@@ -11,19 +11,28 @@
 #include <vector>
 
 #include "app/Run.hpp"
+#include "app/Simulation.hpp"
+#include "io/Summary.hpp"
 #include "io/Parameters.hpp"
 
 namespace {
 
 constexpr const char* kUsage =
-    "usage: poresph SCENE.xml [--set \"Sublist/Parameter Name=value\"]... [--output DIR]\n"
+    "usage: poresph SCENE.xml [--set \"Sublist/Parameter Name=value\"]... [--output DIR] [--restart CHECKPOINT.h5]\n"
     "       poresph --help-parameters    every scene parameter with its default and documentation\n"
+    "--restart continues the run saved in a checkpoint (Output/Checkpoint Interval, Output/Final Checkpoint)\n"
+    "with the scene's parameters; on as many processes as wrote it, bit for bit.\n"
+    "--inject-nan STEP makes step STEP end with a NaN velocity, to test the failure path.\n"
+    "Exit status: 0 done, 1 error, 2 bad input, 3 the run failed (a checkpoint of the last good state\n"
+    "was written), 128 + signal after SIGINT/SIGTERM (a checkpoint was written).\n"
     "Kokkos options (--kokkos-threads=N, ...) are passed on to Kokkos.\n";
 
 struct CommandLine {
   std::string scene_file;
   std::vector<std::string> overrides;
   std::string output_dir;
+  std::string restart_file;
+  long long inject_nan_at_step = -1;
   bool help = false, help_parameters = false;
   std::vector<char*> kokkos_args;  // argv[0] and every --kokkos-* option
 };
@@ -45,6 +54,18 @@ CommandLine parse_command_line(int argc, char** argv) {
     else if (arg == "--help-parameters") cl.help_parameters = true;
     else if (arg.rfind("--set", 0) == 0 && (arg.size() == 5 || arg[5] == '=')) cl.overrides.push_back(value_of(i, "--set"));
     else if (arg.rfind("--output", 0) == 0 && (arg.size() == 8 || arg[8] == '=')) cl.output_dir = value_of(i, "--output");
+    else if (arg.rfind("--restart", 0) == 0 && (arg.size() == 9 || arg[9] == '=')) cl.restart_file = value_of(i, "--restart");
+    else if (arg.rfind("--inject-nan", 0) == 0 && (arg.size() == 12 || arg[12] == '=')) {
+      const std::string step = value_of(i, "--inject-nan");
+      size_t used = 0;
+      try {
+        cl.inject_nan_at_step = std::stoll(step, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != step.size() || cl.inject_nan_at_step < 1)
+        throw poresph::ParameterError("--inject-nan needs a step number >= 1, not '" + step + "'");
+    }
     else if (arg.rfind("--kokkos-", 0) == 0) cl.kokkos_args.push_back(argv[i]);
     else if (arg.rfind("-", 0) == 0) throw poresph::ParameterError("unknown option " + arg);
     else if (cl.scene_file.empty()) cl.scene_file = arg;
@@ -62,10 +83,23 @@ int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const p
   // launcher's output goes to a log: stay quiet there unless asked.
   const bool under_mpiexec = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE");
   options.progress_on_terminal = isatty(fileno(stdout)) && !under_mpiexec;
+  options.restart_file = cl.restart_file;
+  options.inject_nan_at_step = cl.inject_nan_at_step;
+  options.parameters_xml = poresph::parameters_to_xml(parameters);
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   if (rank == 0) {
     std::filesystem::create_directories(options.output_dir);
-    poresph::write_parameters_xml(parameters, options.output_dir + "/parameters_used.xml");
+    // The list after defaults, and what ran it: enough to reproduce any output.
+    poresph::write_file_atomically(
+        options.output_dir + "/parameters_used.xml",
+        "<!-- poresph " + std::string(PORESPH_VERSION) + "; backend " + poresph::backend_for(scene) + "; ranks " +
+            std::to_string(ranks) + "; threads per rank " + std::to_string(poresph::threads_for(scene)) +
+            (cl.restart_file.empty() ? "" : "; restarted from " + cl.restart_file) + " -->\n" +
+            options.parameters_xml);
   }
+  MPI_Barrier(MPI_COMM_WORLD);  // the directory exists before any process writes into it
+  poresph::install_stop_signal_handlers();
   const auto report = poresph::run_scene(scene, options);
   if (rank == 0)
     std::cout << "poresph: " << scene.name << ": " << report.steps << " steps to t = " << report.simulated_time
@@ -119,6 +153,12 @@ int main(int argc, char** argv) {
   } catch (const poresph::ParameterError& e) {
     if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
     status = 2;
+  } catch (const poresph::SimulationFailure& e) {
+    if (rank == 0) std::cerr << "poresph: the run failed: " << e.what() << "\n";
+    status = 3;
+  } catch (const poresph::RunInterrupted& e) {
+    if (rank == 0) std::cerr << "poresph: " << e.what() << "\n";
+    status = 128 + e.signal_number;
   } catch (const std::invalid_argument& e) {  // a scene the solver refuses before any work
     if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
     status = 2;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <deque>
 #include <utility>
+#include <vector>
 
 namespace poresph {
 
@@ -26,6 +27,15 @@ class SteadyStateDetector {
 
   // (max - min) / |latest| over the current window.
   double relative_change() const { return relative_change_; }
+
+  // The window's samples and the first time, to continue after a restart.
+  double first_time() const { return first_time_; }
+  const std::deque<std::pair<double, double>>& samples() const { return samples_; }
+  void restore(double first_time, const std::vector<double>& times, const std::vector<double>& values) {
+    samples_.clear();
+    for (size_t k = 0; k < times.size(); ++k) samples_.emplace_back(times[k], values[k]);
+    first_time_ = first_time;
+  }
 
  private:
   double window_, tolerance_;

@@ -48,6 +48,19 @@ struct GrainMap {
     }
   }
 
+  // The grain whose centre lies at x - offset (a boundary particle's own
+  // grain, from its stored offset to the centre), or -1.
+  KOKKOS_INLINE_FUNCTION int grain_with_offset(const double* x, const double* offset, double tolerance) const {
+    int found = -1;
+    for_each_grain_near(x, [&](int g) {
+      double r[Dim], mismatch = 0;
+      offset_from_centre(x, g, r);
+      for (int d = 0; d < Dim; ++d) mismatch += (r[d] - offset[d]) * (r[d] - offset[d]);
+      if (mismatch <= tolerance * tolerance) found = g;
+    });
+    return found;
+  }
+
   // Calls f(g) for every grain g that may contain x.
   template <class F>
   KOKKOS_INLINE_FUNCTION void for_each_grain_near(const double* x, F&& f) const {

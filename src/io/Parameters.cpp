@@ -6,6 +6,7 @@
 #include <Teuchos_StandardParameterEntryValidators.hpp>
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <type_traits>
@@ -160,6 +161,29 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Final Particles CSV", false,
           "Write particles.csv of the final state (id, kind, position, velocity, density, pressure); "
           "perf/plot_velocity.py draws it.");
+    s.set("Field Interval", 0.0,
+          "Simulated time (s) between HDF5 field files (fields_NNNNNN.h5, described for ParaView by "
+          "particles.xmf and grid.xmf); the initial and final states are written too. 0: no field files.",
+          real_in(0.0, kHuge));
+    s.set("Fields", std::string("velocity density pressure kind grain id"),
+          "Particle fields in each field file, separated by spaces or commas, out of: velocity density "
+          "pressure kind grain id. Positions are always written.");
+    s.set("Grid Points", Array<int>(),
+          "Points per direction of a regular grid of the cell on which the SPH-interpolated velocity and "
+          "pressure are written with each field file (ParaView shows it as an image). Empty: no grid.",
+          ints_in(1, 1 << 20));
+    s.set("Checkpoint Interval", 0,
+          "Steps between checkpoints (checkpoint.h5, the state `poresph SCENE.xml --restart` continues from). "
+          "0: only the final one.",
+          int_in(0, std::numeric_limits<int>::max()));
+    s.set("Final Checkpoint", true, "Write checkpoint.h5 at the end of the run.");
+  }
+  {
+    auto& s = list->sublist("Checks", false, "Conditions that stop a run, with a checkpoint of the last good state.");
+    s.set("Density Variation Limit", 0.1,
+          "Largest |rho/rho0 - 1| of a fluid particle before the run stops; NaN or Inf in any field and a "
+          "particle outrunning the time step's CFL limits always stop it.",
+          real_in(1e-6, kHuge));
   }
   {
     auto& s = list->sublist("Diagnostics", false, "Checks against known solutions.");
@@ -398,7 +422,29 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.steady_tolerance = permeability.get<double>("Steady Tolerance");
   scene.steady_window = permeability.get<double>("Steady Window");
 
-  scene.write_final_particles = list.sublist("Output").get<bool>("Final Particles CSV");
+  const auto& output = list.sublist("Output");
+  scene.write_final_particles = output.get<bool>("Final Particles CSV");
+  scene.field_interval = output.get<double>("Field Interval");
+  {
+    std::string words = output.get<std::string>("Fields");
+    for (auto& c : words)
+      if (c == ',') c = ' ';
+    std::istringstream in(words);
+    for (std::string word; in >> word;) {
+      static const char* const known[] = {"velocity", "density", "pressure", "kind", "grain", "id"};
+      if (std::find(std::begin(known), std::end(known), word) == std::end(known))
+        fail("Output/Fields: unknown field '" + word + "' (known: velocity density pressure kind grain id)");
+      if (std::find(scene.fields.begin(), scene.fields.end(), word) == scene.fields.end())
+        scene.fields.push_back(word);
+    }
+  }
+  const auto grid_points = output.get<Array<int>>("Grid Points");
+  scene.grid_points.assign(grid_points.begin(), grid_points.end());
+  if (!scene.grid_points.empty() && static_cast<int>(scene.grid_points.size()) != scene.dimension)
+    fail("Output/Grid Points needs one count per direction (" + std::to_string(scene.dimension) + ")");
+  scene.checkpoint_interval = output.get<int>("Checkpoint Interval");
+  scene.final_checkpoint = output.get<bool>("Final Checkpoint");
+  scene.density_variation_limit = list.sublist("Checks").get<double>("Density Variation Limit");
 
   const auto& parallel = list.sublist("Parallel");
   scene.grid_decomposition = parallel.get<std::string>("Decomposition") == "grid";
@@ -416,6 +462,12 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   const auto samples = list.sublist("Diagnostics").get<Array<double>>("Profile Sample Times");
   scene.profile_sample_times.assign(samples.begin(), samples.end());
   return scene;
+}
+
+std::string parameters_to_xml(const ParameterList& list) {
+  std::ostringstream out;
+  Teuchos::writeParameterListToXmlOStream(list, out);
+  return out.str();
 }
 
 void write_parameters_xml(const ParameterList& list, const std::string& file) {

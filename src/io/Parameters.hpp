@@ -42,5 +42,7 @@ void validate_parameters(Teuchos::ParameterList& list);
 SceneConfig scene_from_parameters(const Teuchos::ParameterList& list, const std::string& scene_directory = "");
 
 void write_parameters_xml(const Teuchos::ParameterList& list, const std::string& file);
+// The list as Teuchos XML text.
+std::string parameters_to_xml(const Teuchos::ParameterList& list);
 
 }  // namespace poresph

@@ -63,6 +63,16 @@ struct SceneConfig {
   std::vector<int> process_grid;
   std::array<std::vector<double>, 3> cuts;
   bool write_final_particles = false;  // particles.csv of the final state
+  // Field output (HDF5 + XDMF): every field_interval seconds of simulated
+  // time (0: none), the named particle fields, and the SPH-interpolated
+  // velocity and pressure on a grid of grid_points per direction (empty: none).
+  double field_interval = 0.0;
+  std::vector<std::string> fields;  // of: velocity density pressure kind grain id
+  std::vector<int> grid_points;
+  long long checkpoint_interval = 0;  // steps; 0: only the final checkpoint
+  bool final_checkpoint = true;
+  // The run stops, naming the particle, when |rho/rho0 - 1| of a fluid particle exceeds this.
+  double density_variation_limit = 0.1;
 
   // Permeability: drive every direction in turn (full tensor) or only along the body force.
   bool permeability_tensor = false;

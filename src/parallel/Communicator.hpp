@@ -32,6 +32,16 @@ class Communicator {
     return r;
   }
   bool any(bool x) const { return max(x ? 1 : 0) != 0; }
+  long long min(long long x) const {
+    long long r = 0;
+    MPI_Allreduce(&x, &r, 1, MPI_LONG_LONG, MPI_MIN, comm_);
+    return r;
+  }
+  // Element-wise sums over processes, in place.
+  void sum(long long* values, int n) const {
+    MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_LONG_LONG, MPI_SUM, comm_);
+  }
+  void sum(double* values, int n) const { MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_SUM, comm_); }
 
   // Every rank's text, concatenated in rank order, on rank 0 (empty elsewhere).
   std::string gather_text(const std::string& text) const {

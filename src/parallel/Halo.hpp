@@ -56,6 +56,7 @@ class Halo {
   }
 
   const Box<Dim>& box() const { return decomposition_.box(comm_.rank()); }
+  const Decomposition<Dim>& decomposition() const { return decomposition_; }
 
   // Puts owned particles that left the cell through a periodic face back in;
   // the start-of-step position moves with them (a wrap in the middle of a

@@ -1,0 +1,225 @@
+#include "io/Hdf5File.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+#include <type_traits>
+
+namespace poresph {
+namespace {
+
+template <class T>
+hid_t memory_type() {
+  if constexpr (std::is_same_v<T, double>) return H5T_NATIVE_DOUBLE;
+  else if constexpr (std::is_same_v<T, int>) return H5T_NATIVE_INT;
+  else if constexpr (std::is_same_v<T, long long>) return H5T_NATIVE_LLONG;
+  else static_assert(sizeof(T) == 0, "unsupported HDF5 element type");
+}
+
+// Closes an HDF5 handle at scope exit.
+struct Handle {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Handle() {
+    if (id >= 0) close(id);
+  }
+};
+
+// This process's part of a collective transfer; a process with nothing to
+// move still takes part, with empty selections.
+void select(hid_t file_space, hid_t memory_space, const hsize_t* start, const hsize_t* count, int n) {
+  bool empty = false;
+  for (int d = 0; d < n; ++d) empty = empty || count[d] == 0;
+  if (empty) {
+    H5Sselect_none(file_space);
+    H5Sselect_none(memory_space);
+  } else {
+    H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+  }
+}
+
+}  // namespace
+
+Hdf5File::Hdf5File(const std::string& path, Mode mode, MPI_Comm comm) : path_(path), comm_(comm) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported as exceptions
+  const Handle access{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+  H5Pset_fapl_mpio(access.id, comm, MPI_INFO_NULL);
+  file_ = mode == Mode::Create ? H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id)
+                               : H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.id);
+  if (file_ < 0) fail(mode == Mode::Create ? "cannot create the file" : "cannot open the file");
+  transfer_ = H5Pcreate(H5P_DATASET_XFER);
+  H5Pset_dxpl_mpio(transfer_, H5FD_MPIO_COLLECTIVE);
+}
+
+Hdf5File::~Hdf5File() {
+  if (transfer_ >= 0) H5Pclose(transfer_);
+  if (file_ >= 0) H5Fclose(file_);
+}
+
+void Hdf5File::fail(const std::string& what) const { throw std::runtime_error(path_ + ": " + what); }
+
+template <class T>
+long long Hdf5File::write_rows(const std::string& name, const T* data, long long local_rows, int columns) {
+  long long offset = 0, total = 0;
+  MPI_Exscan(&local_rows, &offset, 1, MPI_LONG_LONG, MPI_SUM, comm_);
+  MPI_Allreduce(&local_rows, &total, 1, MPI_LONG_LONG, MPI_SUM, comm_);
+  int rank = 0;
+  MPI_Comm_rank(comm_, &rank);
+  if (rank == 0) offset = 0;  // MPI_Exscan leaves rank 0's result undefined
+  const int rank_of_data = columns > 0 ? 2 : 1;
+  const hsize_t global[2] = {static_cast<hsize_t>(total), static_cast<hsize_t>(columns)};
+  const hsize_t start[2] = {static_cast<hsize_t>(offset), 0};
+  const hsize_t count[2] = {static_cast<hsize_t>(local_rows), static_cast<hsize_t>(columns)};
+  const Handle file_space{H5Screate_simple(rank_of_data, global, nullptr), H5Sclose};
+  const Handle dataset{H5Dcreate2(file_, name.c_str(), memory_type<T>(), file_space.id, H5P_DEFAULT, H5P_DEFAULT,
+                                  H5P_DEFAULT),
+                       H5Dclose};
+  if (dataset.id < 0) fail("cannot create dataset " + name);
+  const Handle memory_space{H5Screate_simple(rank_of_data, count, nullptr), H5Sclose};
+  select(file_space.id, memory_space.id, start, count, rank_of_data);
+  if (H5Dwrite(dataset.id, memory_type<T>(), memory_space.id, file_space.id, transfer_, data) < 0)
+    fail("cannot write dataset " + name);
+  return offset;
+}
+
+template <class T>
+std::vector<T> Hdf5File::read_rows(const std::string& name, long long first, long long count_rows) {
+  const Handle dataset{H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose};
+  if (dataset.id < 0) fail("no dataset " + name);
+  const Handle file_space{H5Dget_space(dataset.id), H5Sclose};
+  hsize_t dims[2] = {0, 1};
+  const int rank_of_data = H5Sget_simple_extent_ndims(file_space.id);
+  if (rank_of_data < 1 || rank_of_data > 2) fail(name + " is not a particle array");
+  H5Sget_simple_extent_dims(file_space.id, dims, nullptr);
+  const hsize_t columns = rank_of_data == 2 ? dims[1] : 1;
+  if (first < 0 || count_rows < 0 || static_cast<hsize_t>(first + count_rows) > dims[0])
+    fail("rows " + std::to_string(first) + ".." + std::to_string(first + count_rows) + " of " + name +
+         " are out of range");
+  std::vector<T> values(static_cast<size_t>(count_rows) * columns);
+  const hsize_t start[2] = {static_cast<hsize_t>(first), 0};
+  const hsize_t count[2] = {static_cast<hsize_t>(count_rows), columns};
+  const Handle memory_space{H5Screate_simple(rank_of_data, count, nullptr), H5Sclose};
+  select(file_space.id, memory_space.id, start, count, rank_of_data);
+  if (H5Dread(dataset.id, memory_type<T>(), memory_space.id, file_space.id, transfer_, values.data()) < 0)
+    fail("cannot read dataset " + name);
+  return values;
+}
+
+template long long Hdf5File::write_rows<double>(const std::string&, const double*, long long, int);
+template long long Hdf5File::write_rows<int>(const std::string&, const int*, long long, int);
+template long long Hdf5File::write_rows<long long>(const std::string&, const long long*, long long, int);
+template std::vector<double> Hdf5File::read_rows<double>(const std::string&, long long, long long);
+template std::vector<int> Hdf5File::read_rows<int>(const std::string&, long long, long long);
+template std::vector<long long> Hdf5File::read_rows<long long>(const std::string&, long long, long long);
+
+void Hdf5File::write_block(const std::string& name, const std::vector<long long>& global,
+                           const std::vector<long long>& offset, const std::vector<long long>& count,
+                           const double* data) {
+  const int n = static_cast<int>(global.size());
+  std::vector<hsize_t> g(global.begin(), global.end()), o(offset.begin(), offset.end()),
+      c(count.begin(), count.end());
+  const Handle file_space{H5Screate_simple(n, g.data(), nullptr), H5Sclose};
+  const Handle dataset{H5Dcreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, file_space.id, H5P_DEFAULT, H5P_DEFAULT,
+                                  H5P_DEFAULT),
+                       H5Dclose};
+  if (dataset.id < 0) fail("cannot create dataset " + name);
+  const Handle memory_space{H5Screate_simple(n, c.data(), nullptr), H5Sclose};
+  select(file_space.id, memory_space.id, o.data(), c.data(), n);
+  if (H5Dwrite(dataset.id, H5T_NATIVE_DOUBLE, memory_space.id, file_space.id, transfer_, data) < 0)
+    fail("cannot write dataset " + name);
+}
+
+bool Hdf5File::has(const std::string& name) const { return H5Lexists(file_, name.c_str(), H5P_DEFAULT) > 0; }
+
+std::vector<long long> Hdf5File::shape(const std::string& name) const {
+  const Handle dataset{H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose};
+  if (dataset.id < 0) fail("no dataset " + name);
+  const Handle space{H5Dget_space(dataset.id), H5Sclose};
+  const int n = H5Sget_simple_extent_ndims(space.id);
+  std::vector<hsize_t> dims(n > 0 ? n : 0);
+  H5Sget_simple_extent_dims(space.id, dims.data(), nullptr);
+  return {dims.begin(), dims.end()};
+}
+
+void Hdf5File::set_attribute(const std::string& name, double value) {
+  set_attribute(name, std::vector<double>{value});
+}
+
+void Hdf5File::set_attribute(const std::string& name, const std::vector<double>& values) {
+  const hsize_t n = values.size();
+  const Handle space{n > 0 ? H5Screate_simple(1, &n, nullptr) : H5Screate(H5S_NULL), H5Sclose};
+  const Handle attribute{H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space.id, H5P_DEFAULT, H5P_DEFAULT),
+                         H5Aclose};
+  if (attribute.id < 0 || (n > 0 && H5Awrite(attribute.id, H5T_NATIVE_DOUBLE, values.data()) < 0))
+    fail("cannot write attribute " + name);
+}
+
+void Hdf5File::set_attribute(const std::string& name, long long value) {
+  const Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+  const Handle attribute{H5Acreate2(file_, name.c_str(), H5T_NATIVE_LLONG, space.id, H5P_DEFAULT, H5P_DEFAULT),
+                         H5Aclose};
+  if (attribute.id < 0 || H5Awrite(attribute.id, H5T_NATIVE_LLONG, &value) < 0)
+    fail("cannot write attribute " + name);
+}
+
+void Hdf5File::set_attribute(const std::string& name, const std::string& value) {
+  const Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, value.empty() ? 1 : value.size());
+  const Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+  const Handle attribute{H5Acreate2(file_, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  const std::string stored = value.empty() ? std::string(1, '\0') : value;
+  if (attribute.id < 0 || H5Awrite(attribute.id, type.id, stored.data()) < 0) fail("cannot write attribute " + name);
+}
+
+hid_t Hdf5File::open_attribute(const std::string& name) const {
+  const hid_t attribute = H5Aopen(file_, name.c_str(), H5P_DEFAULT);
+  if (attribute < 0) fail("no attribute " + name);
+  return attribute;
+}
+
+std::vector<double> Hdf5File::double_array_attribute(const std::string& name) const {
+  const Handle attribute{open_attribute(name), H5Aclose};
+  const Handle space{H5Aget_space(attribute.id), H5Sclose};
+  const hssize_t n = H5Sget_simple_extent_npoints(space.id);
+  std::vector<double> values(n > 0 ? n : 0);
+  if (n > 0 && H5Aread(attribute.id, H5T_NATIVE_DOUBLE, values.data()) < 0) fail("cannot read attribute " + name);
+  return values;
+}
+
+double Hdf5File::double_attribute(const std::string& name) const {
+  const auto values = double_array_attribute(name);
+  if (values.size() != 1) fail("attribute " + name + " is not a scalar");
+  return values[0];
+}
+
+long long Hdf5File::integer_attribute(const std::string& name) const {
+  const Handle attribute{open_attribute(name), H5Aclose};
+  long long value = 0;
+  if (H5Aread(attribute.id, H5T_NATIVE_LLONG, &value) < 0) fail("cannot read attribute " + name);
+  return value;
+}
+
+std::string Hdf5File::string_attribute(const std::string& name) const {
+  const Handle attribute{open_attribute(name), H5Aclose};
+  const Handle type{H5Aget_type(attribute.id), H5Tclose};
+  std::string value(H5Tget_size(type.id), '\0');
+  if (H5Aread(attribute.id, type.id, value.data()) < 0) fail("cannot read attribute " + name);
+  while (!value.empty() && value.back() == '\0') value.pop_back();
+  return value;
+}
+
+void write_hdf5_atomically(const std::string& path, MPI_Comm comm, const std::function<void(Hdf5File&)>& fill) {
+  const std::string temporary = path + ".tmp";
+  {
+    Hdf5File file(temporary, Hdf5File::Mode::Create, comm);
+    fill(file);
+  }  // closed (collectively) here
+  MPI_Barrier(comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int failed = 0;
+  if (rank == 0) failed = std::rename(temporary.c_str(), path.c_str()) != 0;
+  MPI_Bcast(&failed, 1, MPI_INT, 0, comm);
+  if (failed) throw std::runtime_error("cannot rename " + temporary + " to " + path);
+}
+
+}  // namespace poresph

@@ -1,0 +1,78 @@
+#pragma once
+// The gridded view porous-media users ask for: velocity and pressure at the
+// nodes of a regular grid of the cell, interpolated from the fluid particles
+// with the SPH kernel and Shepard's normalisation,
+//   f(x) = sum_j (m_j/rho_j) f_j W(x - x_j) / sum_j (m_j/rho_j) W(x - x_j),
+// which keeps a uniform field exact next to grains, where the kernel support
+// is only partly filled with fluid. Nodes inside a grain are solid: zero
+// velocity and pressure, and solid = 1.
+#include <Kokkos_Core.hpp>
+
+#include "core/CellList.hpp"
+#include "core/Kernel.hpp"
+#include "core/Math.hpp"
+#include "core/Particles.hpp"
+#include "core/Vec.hpp"
+#include "geometry/GrainMap.hpp"
+#include "physics/GrainContact.hpp"
+
+namespace poresph {
+
+// This process's block of a grid with nodes at (i + 1/2) spacing along each
+// direction: nodes first .. first + count - 1, x fastest.
+template <int Dim>
+struct GridBlock {
+  long long first[Dim] = {};
+  long long count[Dim] = {};
+  double spacing[Dim] = {};
+  long long nodes() const {
+    long long n = 1;
+    for (int d = 0; d < Dim; ++d) n *= count[d];
+    return n;
+  }
+  KOKKOS_INLINE_FUNCTION Vec<Dim> position(long long node) const {
+    Vec<Dim> x;
+    for (int d = 0; d < Dim; ++d) {
+      x[d] = (first[d] + node % count[d] + 0.5) * spacing[d];
+      node /= count[d];
+    }
+    return x;
+  }
+};
+
+// Columns of `values` per node: velocity (Dim), pressure, solid.
+template <int Dim, class ExecSpace>
+void interpolate_to_grid(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                         const CellList<Dim, ExecSpace>& cells, const QuinticKernel<Dim>& kernel,
+                         const GrainMap<Dim, typename ExecSpace::memory_space>& grains, const GridBlock<Dim>& block,
+                         const Kokkos::View<double**, typename ExecSpace::memory_space>& values) {
+  const auto Q = P;
+  const bool has_grains = !grains.empty();
+  Kokkos::parallel_for(
+      "poresph::interpolate_to_grid", Kokkos::RangePolicy<ExecSpace>(space, 0, block.nodes()),
+      KOKKOS_LAMBDA(long long node) {
+        const Vec<Dim> x = block.position(node);
+        for (int c = 0; c < Dim + 2; ++c) values(node, c) = 0.0;
+        double depth, normal[Dim];
+        if (has_grains && deepest_grain(grains, x.c, depth, normal) >= 0) {
+          values(node, Dim + 1) = 1.0;
+          return;
+        }
+        double weight_sum = 0, velocity[Dim] = {}, pressure = 0;
+        cells.for_each_candidate(x, [&](int j) {
+          if (Q.kind(j) != kFluid) return;
+          double r_sq = 0;
+          for (int d = 0; d < Dim; ++d) r_sq += (x[d] - Q.x(j, d)) * (x[d] - Q.x(j, d));
+          if (r_sq >= kernel.cutoff_sq) return;
+          const double w = Q.m(j) / Q.rho(j) * kernel.value(math::sqrt(r_sq));
+          weight_sum += w;
+          for (int d = 0; d < Dim; ++d) velocity[d] += w * Q.v(j, d);
+          pressure += w * Q.p(j);
+        });
+        if (weight_sum <= 0) return;
+        for (int d = 0; d < Dim; ++d) values(node, d) = velocity[d] / weight_sum;
+        values(node, Dim) = pressure / weight_sum;
+      });
+}
+
+}  // namespace poresph

@@ -1,0 +1,228 @@
+// Output that survives: HDF5 field files read back equal, an interrupted
+// write leaves no file under the final name, a restart from a checkpoint
+// continues bit for bit, and a NaN stops the run with a readable checkpoint
+// of the last good state. CTest runs this on 1 and 2 MPI ranks.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+#include "app/Run.hpp"
+#include "app/Simulation.hpp"
+#include "geometry/Grains.hpp"
+#include "io/Hdf5File.hpp"
+
+namespace poresph {
+namespace {
+
+int world_rank() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+int world_size() {
+  int n = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+}
+
+// A directory shared by all ranks of this run, empty.
+std::string fresh_directory(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("poresph-test-output-" + name + "-" + std::to_string(world_size()) + "-ranks");
+  if (world_rank() == 0) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  return dir.string();
+}
+
+TEST(Hdf5File, RowsAndBlocksReadBackEqual) {
+  const std::string path = fresh_directory("roundtrip") + "/fields.h5";
+  const int rank = world_rank(), size = world_size();
+  // Rank r holds r + 3 rows, so that the offsets differ between ranks.
+  const int rows = rank + 3;
+  long long first = 0;
+  for (int r = 0; r < rank; ++r) first += r + 3;
+  std::vector<double> vectors(rows * 3);
+  std::vector<int> kinds(rows);
+  std::vector<long long> ids(rows);
+  for (int i = 0; i < rows; ++i) {
+    for (int c = 0; c < 3; ++c) vectors[i * 3 + c] = std::sin(1.0 + (first + i) * 3 + c);
+    kinds[i] = static_cast<int>((first + i) % 3);
+    ids[i] = 1000000000000LL + first + i;
+  }
+  // The grid: 4 x 2 per rank, stacked along the slow direction.
+  std::vector<double> block(4 * 2);
+  for (int k = 0; k < 8; ++k) block[k] = rank * 8 + k + 0.5;
+  write_hdf5_atomically(path, MPI_COMM_WORLD, [&](Hdf5File& file) {
+    file.set_attribute("time", 1.25);
+    file.set_attribute("step", 42LL);
+    file.set_attribute("note", std::string("round trip"));
+    file.set_attribute("empty", std::vector<double>{});
+    EXPECT_EQ(file.write_rows("vectors", vectors.data(), rows, 3), first);
+    file.write_rows("kind", kinds.data(), rows, 0);
+    file.write_rows("id", ids.data(), rows, 0);
+    file.write_block("grid", {2LL * size, 4}, {2LL * rank, 0}, {2, 4}, block.data());
+  });
+  Hdf5File file(path, Hdf5File::Mode::Read, MPI_COMM_WORLD);
+  EXPECT_EQ(file.double_attribute("time"), 1.25);
+  EXPECT_EQ(file.integer_attribute("step"), 42);
+  EXPECT_EQ(file.string_attribute("note"), "round trip");
+  EXPECT_TRUE(file.double_array_attribute("empty").empty());
+  long long total = 0;
+  for (int r = 0; r < size; ++r) total += r + 3;
+  EXPECT_EQ(file.shape("vectors"), (std::vector<long long>{total, 3}));
+  // Every rank reads all rows back, its own and the others'.
+  const auto all_vectors = file.read_rows<double>("vectors", 0, total);
+  const auto all_kinds = file.read_rows<int>("kind", 0, total);
+  const auto all_ids = file.read_rows<long long>("id", 0, total);
+  for (long long i = 0; i < total; ++i) {
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(all_vectors[i * 3 + c], std::sin(1.0 + i * 3 + c));
+    EXPECT_EQ(all_kinds[i], i % 3);
+    EXPECT_EQ(all_ids[i], 1000000000000LL + i);
+  }
+  const auto grid = file.read_rows<double>("grid", 0, 2LL * size);
+  for (int k = 0; k < 8 * size; ++k) EXPECT_EQ(grid[k], k + 0.5);
+}
+
+TEST(Hdf5File, InterruptedWriteLeavesNoFileUnderTheFinalName) {
+  const std::string dir = fresh_directory("interrupted");
+  const std::string path = dir + "/fields.h5";
+  const double value = 7.0;
+  // A complete file first, then a write that dies half way.
+  write_hdf5_atomically(path, MPI_COMM_WORLD, [&](Hdf5File& file) { file.write_rows("a", &value, 1, 0); });
+  EXPECT_THROW(write_hdf5_atomically(path, MPI_COMM_WORLD,
+                                     [&](Hdf5File& file) {
+                                       file.write_rows("b", &value, 1, 0);
+                                       throw std::runtime_error("crash while writing");
+                                     }),
+               std::runtime_error);
+  MPI_Barrier(MPI_COMM_WORLD);
+  Hdf5File file(path, Hdf5File::Mode::Read, MPI_COMM_WORLD);  // the earlier, complete file
+  EXPECT_TRUE(file.has("a"));
+  EXPECT_FALSE(file.has("b"));
+  // And with no earlier file there is nothing under the final name at all.
+  const std::string other = dir + "/other.h5";
+  EXPECT_THROW(write_hdf5_atomically(other, MPI_COMM_WORLD,
+                                     [&](Hdf5File&) { throw std::runtime_error("crash before writing"); }),
+               std::runtime_error);
+  EXPECT_FALSE(std::filesystem::exists(other));
+}
+
+// A grain across the periodic corner and a body force strong enough that
+// particles move over several neighbour-list rebuilds within 200 steps.
+SceneConfig moving_grain_cell() {
+  SceneConfig s;
+  s.name = "moving-grain-cell";
+  s.dimension = 2;
+  s.cell_size = {1.0, 1.0, 0};
+  s.density = 1.0;
+  s.kinematic_viscosity = 0.05;
+  s.body_force = {0.5, 0.2, 0};
+  s.velocity_scale = 0.5;
+  s.particle_spacing = 1.0 / 24;
+  s.smoothing_length_ratio = 1.0;
+  s.resummation_interval = 30;
+  s.shifting_coefficient = 2.0;
+  s.grains = grains_from_list({0.0, 0.0, 0.22}, 2);
+  s.end_time = 10.0;
+  s.progress = ProgressMode::Never;
+  return s;
+}
+
+RunReport run_to(SceneConfig scene, long long steps, const std::string& dir, const std::string& restart = "",
+                 long long inject_nan = -1) {
+  scene.max_steps = steps;
+  RunOptions options;
+  options.output_dir = dir;
+  options.progress_on_terminal = false;
+  options.restart_file = restart;
+  options.inject_nan_at_step = inject_nan;
+  options.parameters_xml = "<ParameterList/>";
+  return run_scene(scene, options);
+}
+
+// Every owned field of a checkpoint, by particle id.
+std::map<long long, std::vector<double>> checkpoint_state(const std::string& path) {
+  Hdf5File file(path, Hdf5File::Mode::Read, MPI_COMM_WORLD);
+  const long long n = file.shape("id")[0];
+  const auto ids = file.read_rows<long long>("id", 0, n);
+  std::map<long long, std::vector<double>> state;
+  for (const char* name : {"x", "v", "rho", "dvdt", "drhodt", "x_start", "v_start", "rho_start"}) {
+    const auto values = file.read_rows<double>(name, 0, n);
+    const size_t columns = values.size() / n;
+    for (long long i = 0; i < n; ++i)
+      for (size_t c = 0; c < columns; ++c) state[ids[i]].push_back(values[i * columns + c]);
+  }
+  return state;
+}
+
+TEST(Checkpoint, RestartContinuesBitForBit) {
+  const auto scene = moving_grain_cell();
+  const std::string whole = fresh_directory("whole"), halves = fresh_directory("halves");
+  const auto uninterrupted = run_to(scene, 200, whole);
+  ASSERT_GT(uninterrupted.neighbour_rebuilds, 3) << "the scene should move through several list rebuilds";
+  run_to(scene, 100, halves);
+  const auto resumed = run_to(scene, 200, halves, halves + "/checkpoint.h5");
+  EXPECT_EQ(resumed.restarted_from_step, 100);
+  EXPECT_EQ(resumed.steps, 200);
+  const auto a = checkpoint_state(whole + "/checkpoint.h5");
+  const auto b = checkpoint_state(halves + "/checkpoint.h5");
+  ASSERT_EQ(a.size(), b.size());
+  long long differing = 0;
+  for (const auto& [id, values] : a) differing += b.at(id) != values;  // exact equality of every value
+  EXPECT_EQ(differing, 0);
+  EXPECT_EQ(uninterrupted.permeability[0][0], resumed.permeability[0][0]);
+}
+
+TEST(Checkpoint, NaNStopsTheRunWithAReadableCheckpointOfTheLastGoodState) {
+  const auto scene = moving_grain_cell();
+  const std::string dir = fresh_directory("nan");
+  std::string message;
+  try {
+    run_to(scene, 200, dir, "", 50);
+  } catch (const SimulationFailure& failure) {
+    message = failure.what();
+  }
+  EXPECT_NE(message.find("step 50,"), std::string::npos) << message;
+  EXPECT_NE(message.find("NaN or Inf"), std::string::npos) << message;
+  EXPECT_NE(message.find("particle "), std::string::npos) << message;
+  EXPECT_NE(message.find("checkpoint.h5"), std::string::npos) << message;
+  {
+    Hdf5File file(dir + "/checkpoint.h5", Hdf5File::Mode::Read, MPI_COMM_WORLD);
+    EXPECT_EQ(file.integer_attribute("step"), 49);  // the last good state
+    EXPECT_EQ(file.integer_attribute("rates_valid"), 0);
+  }
+  const auto state = checkpoint_state(dir + "/checkpoint.h5");
+  long long non_finite = 0;
+  for (const auto& [id, values] : state)
+    for (double value : values) non_finite += !std::isfinite(value);
+  EXPECT_EQ(non_finite, 0);
+  // The run goes on from it.
+  const auto resumed = run_to(scene, 60, dir, dir + "/checkpoint.h5");
+  EXPECT_EQ(resumed.restarted_from_step, 49);
+  EXPECT_EQ(resumed.stopped_by, "max_steps");
+  EXPECT_EQ(static_cast<long long>(state.size()), resumed.fluid_particles + resumed.boundary_particles);
+}
+
+TEST(Checkpoint, FailureIsRecordedInTheSummary) {
+  const std::string dir = fresh_directory("nan-summary");
+  EXPECT_THROW(run_to(moving_grain_cell(), 20, dir, "", 10), SimulationFailure);
+  MPI_Barrier(MPI_COMM_WORLD);
+  std::ifstream summary(dir + "/summary.json");
+  std::stringstream text;
+  text << summary.rdbuf();
+  EXPECT_NE(text.str().find("\"stopped_by\": \"failure\""), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("NaN or Inf"), std::string::npos) << text.str();
+}
+
+}  // namespace
+}  // namespace poresph
