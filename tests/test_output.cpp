@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -222,6 +223,27 @@ TEST(Checkpoint, FailureIsRecordedInTheSummary) {
   text << summary.rdbuf();
   EXPECT_NE(text.str().find("\"stopped_by\": \"failure\""), std::string::npos) << text.str();
   EXPECT_NE(text.str().find("NaN or Inf"), std::string::npos) << text.str();
+}
+
+// Each cause, and the order in which they are named.
+TEST(Health, EachCauseIsRecognised) {
+  const HealthLimits limits{1000.0, 0.1, 2.0, 50.0};
+  const double x[2] = {0.1, 0.2}, still[2] = {0.0, 0.0}, slow[2] = {1.0, 1.0}, fast[2] = {2.0, 0.1};
+  const double calm[2] = {1.0, -1.0}, violent[2] = {0.0, 60.0};
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(health_problem<2>(x, slow, calm, 1050.0, 0.0, true, limits), -1);
+  EXPECT_EQ(health_problem<2>(x, slow, calm, 1101.0, 0.0, true, limits), kDensityVariation);
+  EXPECT_EQ(health_problem<2>(x, slow, calm, 899.0, 0.0, true, limits), kDensityVariation);
+  EXPECT_EQ(health_problem<2>(x, fast, calm, 1000.0, 0.0, true, limits), kSpeedLimit);
+  EXPECT_EQ(health_problem<2>(x, still, violent, 1000.0, 0.0, true, limits), kAccelerationLimit);
+  const double nan_x[2] = {nan, 0.0}, inf_v[2] = {0.0, inf};
+  EXPECT_EQ(health_problem<2>(nan_x, slow, calm, 1000.0, 0.0, true, limits), kNonFinite);
+  EXPECT_EQ(health_problem<2>(x, inf_v, calm, 1000.0, 0.0, true, limits), kNonFinite);
+  EXPECT_EQ(health_problem<2>(x, slow, calm, 1000.0, nan, true, limits), kNonFinite);
+  EXPECT_EQ(health_problem<2>(x, fast, calm, 2000.0, 0.0, true, limits), kDensityVariation);  // first cause
+  // Boundary particles move as prescribed: only non-finite values count.
+  EXPECT_EQ(health_problem<2>(x, fast, violent, 2000.0, 0.0, false, limits), -1);
+  EXPECT_EQ(health_problem<2>(nan_x, still, calm, 1000.0, 0.0, false, limits), kNonFinite);
 }
 
 }  // namespace
