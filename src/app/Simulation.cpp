@@ -168,8 +168,9 @@ bool Simulation<Dim, ExecSpace>::moved_beyond_skin() const {
   const auto x0 = x_at_build_;
   const double limit_sq = 0.25 * skin_ * skin_;
   int moved = 0;
+  static const std::string label_moved_beyond_skin = "poresph::moved_beyond_skin";
   Kokkos::parallel_reduce(
-      "poresph::moved_beyond_skin", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      label_moved_beyond_skin, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
       KOKKOS_LAMBDA(int i, int& count) {
         double d_sq = 0;
         for (int d = 0; d < Dim; ++d) d_sq += (x(i, d) - x0(i, d)) * (x(i, d) - x0(i, d));
@@ -331,8 +332,9 @@ void Simulation<Dim, ExecSpace>::resume(long long steps, const typename Particle
   }
   long long fluid = 0;
   const auto kind = particles_.kind;
+  static const std::string label_count_fluid = "poresph::count_fluid";
   Kokkos::parallel_reduce(
-      "poresph::count_fluid", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      label_count_fluid, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
       KOKKOS_LAMBDA(int i, long long& n) { n += kind(i) == kFluid; }, fluid);
   fluid_count_ = comm_.sum(fluid);
   total_count_ = comm_.sum(static_cast<long long>(particles_.owned));
@@ -383,8 +385,9 @@ Kokkos::View<int*, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>:
   const auto Q = particles_;
   const auto map = grain_map_;
   const double tolerance = 1e-6 * scene_.particle_spacing;
+  static const std::string label_grain_ids = "poresph::grain_ids";
   Kokkos::parallel_for(
-      "poresph::grain_ids", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned), KOKKOS_LAMBDA(int i) {
+      label_grain_ids, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned), KOKKOS_LAMBDA(int i) {
         if (Q.kind(i) != kGrainBoundary) return;
         double x[Dim], offset[Dim];
         for (int d = 0; d < Dim; ++d) x[d] = Q.x(i, d), offset[d] = Q.wall_vector(i, d);
@@ -400,8 +403,9 @@ double Simulation<Dim, ExecSpace>::max_density_variation() const {
   const auto kind = particles_.kind;
   const double rho0 = scene_.density;
   double variation = 0.0;
+  static const std::string label_max_density_variation = "poresph::max_density_variation";
   Kokkos::parallel_reduce(
-      "poresph::max_density_variation", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      label_max_density_variation, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
       KOKKOS_LAMBDA(int i, double& worst) {
         if (kind(i) != kFluid) return;
         const double dev = math::fabs(rho(i) / rho0 - 1.0);
@@ -421,8 +425,9 @@ Vec<Dim> Simulation<Dim, ExecSpace>::superficial_velocity() const {
   Vec<Dim> result;
   for (int d = 0; d < Dim; ++d) {
     double flux = 0.0;
+    static const std::string label_superficial_velocity = "poresph::superficial_velocity";
     Kokkos::parallel_reduce(
-        "poresph::superficial_velocity", Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+        label_superficial_velocity, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
         KOKKOS_LAMBDA(int i, double& sum) {
           if (kind(i) == kFluid) sum += m(i) / rho(i) * v(i, d);
         },

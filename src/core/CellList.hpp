@@ -64,38 +64,51 @@ class CellList {
       sorted_ = IndexView("CellList::sorted", n + n / 4);
       cell_of_ = IndexView("CellList::cell_of", n + n / 4);
     }
-    Kokkos::deep_copy(space, Kokkos::subview(cell_start_, std::make_pair(0, ncells + 1)), 0);
-    Kokkos::deep_copy(space, Kokkos::subview(fill_, std::make_pair(0, ncells)), 0);
+    // A kernel, not deep_copy(view, 0): Kokkos 3.4 builds a label string for that fill at every call.
+    {
+      static const std::string label_clear = "poresph::CellList::clear";
+      const auto start = cell_start_;
+      const auto fill = fill_;
+      Kokkos::parallel_for(
+          label_clear, Kokkos::RangePolicy<ExecSpace>(space, 0, ncells + 1), KOKKOS_LAMBDA(int k) {
+            start(k) = 0;
+            if (k < ncells) fill(k) = 0;
+          });
+    }
 
     const auto grid = grid_;
     const auto cell_of = cell_of_;
     const auto start = cell_start_;
     const auto sorted = sorted_;
+    static const std::string label_bin = "poresph::CellList::bin";
     Kokkos::parallel_for(
-        "poresph::CellList::bin", Kokkos::RangePolicy<ExecSpace>(space, 0, n), KOKKOS_LAMBDA(int i) {
+        label_bin, Kokkos::RangePolicy<ExecSpace>(space, 0, n), KOKKOS_LAMBDA(int i) {
           int c[Dim];
           for (int d = 0; d < Dim; ++d) c[d] = grid.coordinate(x(i, d), d);
           const int k = grid.flat(c);
           cell_of(i) = k;
           Kokkos::atomic_increment(&start(k + 1));
         });
+    static const std::string label_offsets = "poresph::CellList::offsets";
     Kokkos::parallel_scan(
-        "poresph::CellList::offsets", Kokkos::RangePolicy<ExecSpace>(space, 0, ncells + 1),
+        label_offsets, Kokkos::RangePolicy<ExecSpace>(space, 0, ncells + 1),
         KOKKOS_LAMBDA(int k, int& running, bool final) {
           running += start(k);
           if (final) start(k) = running;
         });
     // start(k) now holds the end of cell k-1, i.e. the beginning of cell k.
     const auto fill = fill_;
+    static const std::string label_fill = "poresph::CellList::fill";
     Kokkos::parallel_for(
-        "poresph::CellList::fill", Kokkos::RangePolicy<ExecSpace>(space, 0, n), KOKKOS_LAMBDA(int i) {
+        label_fill, Kokkos::RangePolicy<ExecSpace>(space, 0, n), KOKKOS_LAMBDA(int i) {
           const int k = cell_of(i);
           sorted(start(k) + Kokkos::atomic_fetch_add(&fill(k), 1)) = i;
         });
     // Threads fill a cell in any order; sorting each cell by index makes the
     // neighbour order, and so every floating-point sum, independent of the backend.
+    static const std::string label_order = "poresph::CellList::order";
     Kokkos::parallel_for(
-        "poresph::CellList::order", Kokkos::RangePolicy<ExecSpace>(space, 0, ncells), KOKKOS_LAMBDA(int k) {
+        label_order, Kokkos::RangePolicy<ExecSpace>(space, 0, ncells), KOKKOS_LAMBDA(int k) {
           for (int a = start(k) + 1; a < start(k + 1); ++a) {
             const int key = sorted(a);
             int b = a - 1;

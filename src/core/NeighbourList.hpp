@@ -22,8 +22,9 @@ class NeighbourList {
     if (static_cast<int>(offsets_.extent(0)) < owned + 1) offsets_ = IndexView("NeighbourList::offsets", owned + owned / 4 + 1);
     const auto offsets = offsets_;
     const double radius_sq = radius * radius;
+    static const std::string label_count = "poresph::NeighbourList::count";
     Kokkos::parallel_for(
-        "poresph::NeighbourList::count", Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
+        label_count, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
           const Vec<Dim> xi = row<Dim>(x, i);
           int n = 0;
           cells.for_each_candidate(xi, [&](int j) {
@@ -33,8 +34,9 @@ class NeighbourList {
           offsets(i + 1) = n;
         });
     int total = 0;
+    static const std::string label_offsets = "poresph::NeighbourList::offsets";
     Kokkos::parallel_scan(
-        "poresph::NeighbourList::offsets", Kokkos::RangePolicy<ExecSpace>(space, 0, owned + 1),
+        label_offsets, Kokkos::RangePolicy<ExecSpace>(space, 0, owned + 1),
         KOKKOS_LAMBDA(int i, int& running, bool final) {
           const int n = i == 0 ? 0 : offsets(i);
           running += n;
@@ -43,8 +45,9 @@ class NeighbourList {
         total);
     if (static_cast<int>(indices_.extent(0)) < total) indices_ = IndexView("NeighbourList::indices", total + total / 4);
     const auto indices = indices_;
+    static const std::string label_fill = "poresph::NeighbourList::fill";
     Kokkos::parallel_for(
-        "poresph::NeighbourList::fill", Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
+        label_fill, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
           const Vec<Dim> xi = row<Dim>(x, i);
           int k = offsets(i);
           cells.for_each_candidate(xi, [&](int j) {

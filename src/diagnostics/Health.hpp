@@ -87,8 +87,9 @@ HealthCounts count_health_problems(const ExecSpace& space, const Particles<Dim, 
                                    const HealthLimits& limits) {
   HealthCounts counts;
   const auto Q = P;
+  static const std::string label_count_health_problems = "poresph::count_health_problems";
   Kokkos::parallel_reduce(
-      "poresph::count_health_problems", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
+      label_count_health_problems, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
       KOKKOS_LAMBDA(int i, HealthCounts& sum) {
         const int cause = health_problem_of<Dim>(Q, i, limits);
         if (cause >= 0) ++sum.count[cause];
@@ -103,15 +104,17 @@ int first_particle_with(const ExecSpace& space, const Particles<Dim, typename Ex
                         const HealthLimits& limits, int cause) {
   const auto Q = P;
   long long smallest_id = 0;
+  static const std::string label_first_particle_with = "poresph::first_particle_with";
   Kokkos::parallel_reduce(
-      "poresph::first_particle_with", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
+      label_first_particle_with, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
       KOKKOS_LAMBDA(int i, long long& best) {
         if (health_problem_of<Dim>(Q, i, limits) == cause && Q.id(i) < best) best = Q.id(i);
       },
       Kokkos::Min<long long>(smallest_id));
   int index = -1;
+  static const std::string label_index_of_id = "poresph::index_of_id";
   Kokkos::parallel_reduce(
-      "poresph::index_of_id", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
+      label_index_of_id, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
       KOKKOS_LAMBDA(int i, int& found) {
         if (Q.id(i) == smallest_id && found < i) found = i;
       },

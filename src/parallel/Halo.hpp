@@ -76,8 +76,10 @@ class Halo {
   // dropped). Returns how many left.
   int migrate(ParticleSet& P) {
     P.ghosts = 0;
-    std::vector<Item> leaving;
-    std::vector<int> staying;
+    auto& leaving = leaving_;
+    auto& staying = staying_;
+    leaving.clear();
+    staying.clear();
     for (int i = 0; i < P.owned; ++i) {
       double xi[Dim];
       for (int d = 0; d < Dim; ++d) xi[d] = P.x(i, d);
@@ -86,8 +88,10 @@ class Halo {
       if (q == comm_.rank()) staying.push_back(i);
       else leaving.push_back({i, q, {}});
     }
-    std::stable_sort(leaving.begin(), leaving.end(), [](const Item& a, const Item& b) { return a.to < b.to; });
-    Transfer transfer = exchange(P, leaving, Fields::Owned);
+    keep_headroom(leaving);
+    keep_headroom(staying);
+    sort_by_destination(leaving);
+    const Transfer& transfer = exchange(P, leaving, Fields::Owned);
     // Stable compaction: the particles that stay keep their order.
     for (size_t k = 0; k < staying.size(); ++k)
       if (staying[k] != static_cast<int>(k)) copy_particle(P, staying[k], static_cast<int>(k), Fields::Owned);
@@ -101,11 +105,11 @@ class Halo {
   // Replaces all ghosts; owned particles must be inside this box.
   void build(ParticleSet& P) {
     P.ghosts = 0;
-    stages_.clear();
     const auto& me = box();
     for (int d = 0; d < Dim; ++d) {
       const int held = P.total();
-      std::vector<Item> items;
+      auto& items = stages_[d].items;  // reused: a rebuild allocates only when a stage grows
+      items.clear();
       for (int i = 0; i < held; ++i) {
         double x[Dim];
         for (int e = 0; e < Dim; ++e) x[e] = P.x(i, e);
@@ -120,20 +124,24 @@ class Halo {
               items.push_back({i, q, static_cast<double>(s) * decomposition_.cell()[d]});
           }
       }
-      std::stable_sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.to < b.to; });
-      Transfer transfer = exchange(P, items, Fields::Ghost, d);
+      keep_headroom(items);
+      sort_by_destination(items);
+      const Transfer& transfer = exchange(P, items, Fields::Ghost, d);
       P.reserve(P.total() + transfer.received());
       unpack(P, transfer, P.total(), Fields::Ghost);
       P.ghosts += transfer.received();
-      stages_.push_back({d, std::move(items)});
+      stages_[d].recv_counts = transfer.recv_counts;
     }
+    built_ = true;
   }
 
-  // Sends the fields that change between rebuilds along the recorded routes.
+  // Sends the fields that change between rebuilds along the recorded routes;
+  // the counts are known from the build, so only the data travel.
   void update(ParticleSet& P) {
+    if (!built_) return;
     int slot = P.owned;
-    for (const auto& stage : stages_) {
-      Transfer transfer = exchange(P, stage.items, Fields::Changing, stage.direction);
+    for (int d = 0; d < Dim; ++d) {
+      const Transfer& transfer = exchange(P, stages_[d].items, Fields::Changing, d, &stages_[d].recv_counts);
       unpack(P, transfer, slot, Fields::Changing);
       slot += transfer.received();
     }
@@ -157,8 +165,8 @@ class Halo {
     double shift;  // along the stage's direction
   };
   struct Stage {
-    int direction;
-    std::vector<Item> items;  // what this process sends, in destination order
+    std::vector<Item> items;        // what this process sends, in destination order
+    std::vector<int> recv_counts;   // what it receives from each rank
   };
   struct Transfer {
     std::vector<double> data;
@@ -199,14 +207,42 @@ class Halo {
     });
   }
 
-  // Packs the items (sorted by destination), exchanges counts and data.
-  Transfer exchange(const ParticleSet& P, const std::vector<Item>& items, Fields fields, int direction = 0) const {
-    Transfer t;
+  // A buffer within a quarter of its capacity grows to twice its size, so
+  // that the fluctuation of ghost counts from one rebuild to the next (rows
+  // of particles crossing the halo's edge: 20 % and more) does not reallocate.
+  template <class T>
+  static void keep_headroom(std::vector<T>& buffer) {
+    if (buffer.capacity() < buffer.size() + buffer.size() / 4 + 16) buffer.reserve(buffer.size() * 2 + 16);
+  }
+
+  // Orders items by destination rank, keeping their order within a rank: a
+  // counting sort into a reused buffer (std::stable_sort would allocate).
+  void sort_by_destination(std::vector<Item>& items) const {
+    auto& start = sort_offsets_;
+    start.assign(comm_.size() + 1, 0);
+    for (const auto& it : items) ++start[it.to + 1];
+    for (int q = 0; q < comm_.size(); ++q) start[q + 1] += start[q];
+    sorted_items_.resize(items.size());
+    keep_headroom(sorted_items_);
+    for (const auto& it : items) sorted_items_[start[it.to]++] = it;
+    std::copy(sorted_items_.begin(), sorted_items_.end(), items.begin());  // not swap: each keeps its capacity
+  }
+
+  // Packs the items (sorted by destination) and exchanges counts (unless
+  // known) and data. The buffers are members, reused from call to call, so
+  // that a step allocates nothing once they have grown to size.
+  const Transfer& exchange(const ParticleSet& P, const std::vector<Item>& items, Fields fields, int direction = 0,
+                           const std::vector<int>* known_recv_counts = nullptr) const {
+    Transfer& t = transfer_;
+    t.width = 0;
     visit(P, fields, [&](const auto& v) { t.width += components(v); });
     const int ranks = comm_.size();
-    std::vector<int> send_counts(ranks, 0);
+    auto& send_counts = send_counts_;
+    send_counts.assign(ranks, 0);
     for (const auto& it : items) ++send_counts[it.to];
-    std::vector<double> send(items.size() * t.width);
+    auto& send = send_buffer_;
+    send.resize(items.size() * t.width);
+    keep_headroom(send);
     for (size_t k = 0; k < items.size(); ++k) {
       int offset = 0;
       visit(P, fields, [&](const auto& v) {
@@ -216,15 +252,21 @@ class Halo {
       // x is the first field of every group: apply the image shift.
       send[k * t.width + direction] += items[k].shift;
     }
-    t.recv_counts.assign(ranks, 0);
-    MPI_Alltoall(send_counts.data(), 1, MPI_INT, t.recv_counts.data(), 1, MPI_INT, comm_.comm());
-    std::vector<int> sc(ranks), sd(ranks), rc(ranks), rd(ranks);
+    if (known_recv_counts) {
+      t.recv_counts = *known_recv_counts;
+    } else {
+      t.recv_counts.assign(ranks, 0);
+      MPI_Alltoall(send_counts.data(), 1, MPI_INT, t.recv_counts.data(), 1, MPI_INT, comm_.comm());
+    }
+    auto &sc = send_sizes_, &sd = send_offsets_, &rc = recv_sizes_, &rd = recv_offsets_;
+    sc.resize(ranks), sd.resize(ranks), rc.resize(ranks), rd.resize(ranks);
     int s_off = 0, r_off = 0;
     for (int q = 0; q < ranks; ++q) {
       sc[q] = send_counts[q] * t.width, sd[q] = s_off, s_off += sc[q];
       rc[q] = t.recv_counts[q] * t.width, rd[q] = r_off, r_off += rc[q];
     }
     t.data.resize(r_off);
+    keep_headroom(t.data);
     MPI_Alltoallv(send.data(), sc.data(), sd.data(), MPI_DOUBLE, t.data.data(), rc.data(), rd.data(), MPI_DOUBLE,
                   comm_.comm());
     return t;
@@ -274,7 +316,15 @@ class Halo {
   Communicator comm_;
   Decomposition<Dim> decomposition_;
   double width_ = 0;
-  std::vector<Stage> stages_;
+  std::array<Stage, Dim> stages_;
+  bool built_ = false;
+  // Reused buffers (see exchange).
+  std::vector<Item> leaving_;
+  std::vector<int> staying_;
+  mutable Transfer transfer_;
+  mutable std::vector<double> send_buffer_;
+  mutable std::vector<int> send_counts_, send_sizes_, send_offsets_, recv_sizes_, recv_offsets_, sort_offsets_;
+  mutable std::vector<Item> sorted_items_;
 };
 
 }  // namespace poresph

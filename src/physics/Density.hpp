@@ -15,8 +15,9 @@ template <int Dim, class ExecSpace>
 void update_pressure(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
                      double sound_speed_sq, double reference_pressure) {
   const auto rho = P.rho, p = P.p, term = P.pressure_term, inverse = P.inverse_density;
+  static const std::string label_update_pressure = "poresph::update_pressure";
   Kokkos::parallel_for(
-      "poresph::update_pressure", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+      label_update_pressure, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
         p(i) = pressure_from_density(rho(i), sound_speed_sq);
         term(i) = pressure_term(p(i) - reference_pressure, rho(i));
         inverse(i) = 1.0 / rho(i);
@@ -31,8 +32,9 @@ void resum_fluid_density(const ExecSpace& space, const Particles<Dim, typename E
                          const NeighbourList<Dim, ExecSpace>& neighbours, const QuinticKernel<Dim>& kernel) {
   const auto x = P.x, m = P.m, rho = P.rho;
   const auto kind = P.kind;
+  static const std::string label_resum_fluid_density = "poresph::resum_fluid_density";
   Kokkos::parallel_for(
-      "poresph::resum_fluid_density", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
+      label_resum_fluid_density, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
       KOKKOS_LAMBDA(int a) {
         if (kind(a) != kFluid) return;
         const Vec<Dim> x_a = row<Dim>(x, a);

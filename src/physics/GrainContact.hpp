@@ -62,8 +62,10 @@ GrainPenetration fluid_in_grains(const ExecSpace& space, const Particles<Dim, ty
   GrainPenetration result;
   if (map.empty()) return result;
   const auto Q = P;
+  static const std::string label_keep = "poresph::keep_fluid_outside_grains";
+  static const std::string label_count = "poresph::count_fluid_inside_grains";
   Kokkos::parallel_reduce(
-      correct ? "poresph::keep_fluid_outside_grains" : "poresph::count_fluid_inside_grains",
+      correct ? label_keep : label_count,
       Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
       KOKKOS_LAMBDA(int i, long long& count, double& deepest) {
         if (Q.kind(i) != kFluid) return;

@@ -48,8 +48,9 @@ void interpolate_to_grid(const ExecSpace& space, const Particles<Dim, typename E
                          const Kokkos::View<double**, typename ExecSpace::memory_space>& values) {
   const auto Q = P;
   const bool has_grains = !grains.empty();
+  static const std::string label_interpolate_to_grid = "poresph::interpolate_to_grid";
   Kokkos::parallel_for(
-      "poresph::interpolate_to_grid", Kokkos::RangePolicy<ExecSpace>(space, 0, block.nodes()),
+      label_interpolate_to_grid, Kokkos::RangePolicy<ExecSpace>(space, 0, block.nodes()),
       KOKKOS_LAMBDA(long long node) {
         const Vec<Dim> x = block.position(node);
         for (int c = 0; c < Dim + 2; ++c) values(node, c) = 0.0;

@@ -110,17 +110,21 @@ void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename Ex
   const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
   const bool shift = P.has_shifting && shifting.coefficient > 0;
   // Each combination is its own kernel: what a scene does not use is not compiled into its loop.
+  static const std::string label_surfaces_shifting = "poresph::PairRates<surfaces,shifting>";
+  static const std::string label_surfaces = "poresph::PairRates<surfaces>";
+  static const std::string label_shifting = "poresph::PairRates<shifting>";
+  static const std::string label_plain = "poresph::PairRates";
   if (P.has_surfaces && shift)
-    Kokkos::parallel_for("poresph::PairRates<surfaces,shifting>", policy,
+    Kokkos::parallel_for(label_surfaces_shifting, policy,
                          PairRates<Dim, ExecSpace, true, true>{P, neighbours, kernel, fluid, body_force, shifting});
   else if (P.has_surfaces)
-    Kokkos::parallel_for("poresph::PairRates<surfaces>", policy,
+    Kokkos::parallel_for(label_surfaces, policy,
                          PairRates<Dim, ExecSpace, true, false>{P, neighbours, kernel, fluid, body_force, shifting});
   else if (shift)
-    Kokkos::parallel_for("poresph::PairRates<shifting>", policy,
+    Kokkos::parallel_for(label_shifting, policy,
                          PairRates<Dim, ExecSpace, false, true>{P, neighbours, kernel, fluid, body_force, shifting});
   else
-    Kokkos::parallel_for("poresph::PairRates", policy,
+    Kokkos::parallel_for(label_plain, policy,
                          PairRates<Dim, ExecSpace, false, false>{P, neighbours, kernel, fluid, body_force, shifting});
 }
 

@@ -14,8 +14,9 @@ void predict_to_midpoint(const ExecSpace& space, const Particles<Dim, typename E
                          double dt) {
   const auto Q = P;
   const double half = 0.5 * dt;
+  static const std::string label_predict_to_midpoint = "poresph::predict_to_midpoint";
   Kokkos::parallel_for(
-      "poresph::predict_to_midpoint", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+      label_predict_to_midpoint, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
         const bool fluid = Q.kind(i) == kFluid;
         for (int d = 0; d < Dim; ++d) {
           Q.x_start(i, d) = Q.x(i, d);
@@ -32,8 +33,9 @@ template <int Dim, class ExecSpace>
 void correct_full_step(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
                        double dt) {
   const auto Q = P;
+  static const std::string label_correct_full_step = "poresph::correct_full_step";
   Kokkos::parallel_for(
-      "poresph::correct_full_step", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+      label_correct_full_step, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
         const bool fluid = Q.kind(i) == kFluid;
         for (int d = 0; d < Dim; ++d) {
           const double v_start = Q.v_start(i, d);
@@ -55,8 +57,9 @@ namespace poresph {
 template <int Dim, class ExecSpace>
 void apply_shifting(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P) {
   const auto Q = P;
+  static const std::string label_apply_shifting = "poresph::apply_shifting";
   Kokkos::parallel_for(
-      "poresph::apply_shifting", Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+      label_apply_shifting, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
         for (int d = 0; d < Dim; ++d) {
           Q.x(i, d) += Q.shift(i, d);
           Q.v(i, d) += Q.shift_velocity(i, d);
