@@ -35,6 +35,10 @@ struct HealthCounts {
     for (int c = 0; c < kHealthCauses; ++c) count[c] += other.count[c];
     return *this;
   }
+  // Kokkos 3's OpenMP backend joins partial results through volatile references.
+  KOKKOS_INLINE_FUNCTION void operator+=(const volatile HealthCounts& other) volatile {
+    for (int c = 0; c < kHealthCauses; ++c) count[c] += other.count[c];
+  }
   long long total() const {
     long long n = 0;
     for (int c = 0; c < kHealthCauses; ++c) n += count[c];
