@@ -172,6 +172,36 @@ TEST(Grains, PenetratingFluidIsPutBackOnTheSurface) {
   EXPECT_EQ(fluid_in_grains(Kokkos::DefaultHostExecutionSpace(), P, map, false, 0.0).particles, 0);
 }
 
+// Throats: refused below one spacing, a warning below three, silent above;
+// closed (touching) throats and throats with a grain's own image count too.
+TEST(Grains, ThroatCheckRefusesAndWarnsExactlyWhenItShould) {
+  auto scene = unit_cell(0.01);  // dx = 0.01
+  auto two_grains = [&](double gap) {
+    return grains_from_list({0.3, 0.5, 0.1, 0.5 + gap, 0.5, 0.1}, 2);  // gap between surfaces
+  };
+  const auto refused = error_of([&] { check_throats(two_grains(0.0099), scene); });
+  EXPECT_NE(refused.find("Grains/Inline #1 and grain Grains/Inline #2"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("narrower than one spacing"), std::string::npos) << refused;
+  EXPECT_EQ(error_of([&] { check_throats(two_grains(0.0101), scene); }), "");
+  const auto warned = check_throats(two_grains(0.0101), scene);
+  ASSERT_EQ(warned.size(), 1u);
+  EXPECT_NE(warned[0].find("1.01 particle spacings"), std::string::npos) << warned[0];
+  EXPECT_EQ(check_throats(two_grains(0.0299), scene).size(), 1u);
+  EXPECT_TRUE(check_throats(two_grains(0.0301), scene).empty());
+  EXPECT_TRUE(check_throats(two_grains(0.0), scene).empty());  // touching: no throat at all
+  // A grain and its own periodic image: gap 1 - 2 r.
+  const auto big = grains_from_list({0.5, 0.5, 0.486}, 2);
+  const auto image = check_throats(big, scene);  // gap 0.028: 2.8 spacings
+  ASSERT_EQ(image.size(), 1u);
+  EXPECT_NE(image[0].find("and its periodic image"), std::string::npos) << image[0];
+  scene.particle_spacing = 0.05;
+  EXPECT_NE(error_of([&] { check_throats(big, scene); }).find("its periodic image"), std::string::npos);
+  // Across the periodic boundary, to the nearest image of the other grain.
+  scene.particle_spacing = 0.01;
+  const auto across = grains_from_list({0.05, 0.5, 0.1, 0.85 - 0.005, 0.5, 0.1}, 2);  // gap 0.005 through x = 0
+  EXPECT_NE(error_of([&] { check_throats(across, scene); }).find("0.005 wide"), std::string::npos);
+}
+
 TEST(SteadyState, DetectsAPlateauOnlyAfterAFullWindow) {
   SteadyStateDetector detector(10.0, 1e-3);
   bool steady = false;

@@ -348,6 +348,7 @@ template <int Dim, class ExecSpace>
 RunReport run(const SceneConfig& scene, const RunOptions& options) {
   RunReport report;
   report.scene = scene.name;
+  report.warnings = scene.warnings;
   report.has_grains = !scene.grains.empty();
   report.porosity = porosity(scene.grains, scene);
   std::optional<CheckpointInfo> resume_from;
@@ -458,6 +459,7 @@ JsonObject RunReport::to_json() const {
         .add("steady_relative_change", steady_relative_change);
   }
   if (!failure.empty()) json.add("failure", failure);
+  json.add("warnings", warnings);
   if (restarted_from_step >= 0) json.add("restarted_from_step", restarted_from_step);
   json.add("porosity", porosity);
   if (has_grains) {

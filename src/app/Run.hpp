@@ -44,6 +44,7 @@ struct RunReport {
   double simulated_time = 0, time_step = 0, smoothing_length = 0, sound_speed = 0;
   std::string stopped_by;  // end_time, max_steps, steady_state, failure, signal
   std::string failure;     // what stopped a failed run
+  std::vector<std::string> warnings;  // from the input checks (narrow throats)
   long long restarted_from_step = -1;
   double wall_seconds = 0, setup_seconds = 0, particle_steps_per_second = 0;
   int ranks = 1, threads = 1;

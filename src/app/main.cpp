@@ -98,6 +98,8 @@ int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const p
             (cl.restart_file.empty() ? "" : "; restarted from " + cl.restart_file) + " -->\n" +
             options.parameters_xml);
   }
+  if (rank == 0)
+    for (const auto& warning : scene.warnings) std::cerr << "poresph: warning: " << warning << "\n";
   MPI_Barrier(MPI_COMM_WORLD);  // the directory exists before any process writes into it
   poresph::install_stop_signal_handlers();
   const auto report = poresph::run_scene(scene, options);

@@ -1,5 +1,6 @@
 #include "geometry/Grains.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -108,6 +109,55 @@ void check_grains(const std::vector<Grain>& grains, const SceneConfig& scene) {
         throw std::invalid_argument(msg.str());
       }
     }
+}
+
+std::vector<Throat> narrow_throats(const std::vector<Grain>& grains, const SceneConfig& scene, double max_gap) {
+  const int dim = scene.dimension;
+  std::vector<Throat> throats;
+  for (size_t i = 0; i < grains.size(); ++i)
+    for (size_t j = i; j < grains.size(); ++j) {
+      // Every image of grain j near grain i (3^dim shifts along periodic directions).
+      double narrowest = INFINITY;
+      const int images = dim == 2 ? 9 : 27;
+      for (int k = 0; k < images; ++k) {
+        std::array<double, 3> offset{};
+        bool skip = false;
+        int rest = k, zero_shift = 0;
+        for (int d = 0; d < dim; ++d, rest /= 3) {
+          const int shift = rest % 3 - 1;
+          if (shift != 0 && !scene.periodic[d]) skip = true;
+          zero_shift += shift == 0;
+          offset[d] = grains[j].centre[d] + shift * scene.cell_size[d] - grains[i].centre[d];
+        }
+        if (skip || (i == j && zero_shift == dim)) continue;
+        narrowest = std::min(narrowest, std::sqrt(squared_distance(offset, dim)) - grains[i].radius - grains[j].radius);
+      }
+      // Touching or overlapping grains leave no throat between them.
+      if (narrowest > 1e-12 * scene.cell_size[0] && narrowest < max_gap)
+        throats.push_back({&grains[i], &grains[j], narrowest});
+    }
+  std::sort(throats.begin(), throats.end(), [](const Throat& a, const Throat& b) { return a.gap < b.gap; });
+  return throats;
+}
+
+std::vector<std::string> check_throats(const std::vector<Grain>& grains, const SceneConfig& scene) {
+  const double dx = scene.particle_spacing;
+  std::vector<std::string> warnings;
+  for (const auto& t : narrow_throats(grains, scene, 3 * dx)) {
+    std::ostringstream msg;
+    msg << "the throat between grain " << t.first->origin;
+    if (t.first == t.second) msg << " and its periodic image";
+    else msg << " and grain " << t.second->origin;
+    msg << " is " << t.gap << " wide, " << t.gap / dx << " particle spacings";
+    if (t.gap < dx) {
+      msg << ": narrower than one spacing, it holds no fluid particle and the flow through it would be lost. "
+             "Make the grains touch (Grains/Allow Overlap) or refine Discretization/Particle Spacing";
+      throw std::invalid_argument(msg.str());
+    }
+    msg << ": fewer than 3 spacings across, so the permeability through it is underestimated";
+    warnings.push_back(msg.str());
+  }
+  return warnings;
 }
 
 double porosity(const std::vector<Grain>& grains, const SceneConfig& scene) {

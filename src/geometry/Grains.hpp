@@ -26,6 +26,24 @@ std::array<double, 3> periodic_difference(const std::array<double, 3>& a, const 
 // cell, and (unless allowed) two grains that overlap.
 void check_grains(const std::vector<Grain>& grains, const SceneConfig& scene);
 
+// A pore throat: the narrowest gap between two grains (or a grain and its
+// own periodic image), where the flow through a packing is decided.
+struct Throat {
+  const Grain* first;
+  const Grain* second;  // the same grain for a throat with its own image
+  double gap;           // surface to surface
+};
+
+// Throats open (gap > 0) but narrower than max_gap, narrowest first.
+std::vector<Throat> narrow_throats(const std::vector<Grain>& grains, const SceneConfig& scene, double max_gap);
+
+// A throat narrower than the particle spacing holds no fluid particle, so
+// the flow through it would be silently lost: refused, naming the grains
+// (close it with touching grains, or refine the spacing). Throats resolved
+// by fewer than three spacings are returned as warnings: k through them is
+// underestimated.
+std::vector<std::string> check_throats(const std::vector<Grain>& grains, const SceneConfig& scene);
+
 // Fraction of the cell not covered by grains: exact for separate grains,
 // sampled on a fine grid where grains overlap.
 double porosity(const std::vector<Grain>& grains, const SceneConfig& scene);

@@ -413,6 +413,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
     scene.grains.insert(scene.grains.end(), listed.begin(), listed.end());
     scene.allow_overlapping_grains = grains.get<bool>("Allow Overlap");
     check_grains(scene.grains, scene);
+    scene.warnings = check_throats(scene.grains, scene);
   } catch (const std::invalid_argument& e) {
     throw ParameterError(e.what());
   }

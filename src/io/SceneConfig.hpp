@@ -43,6 +43,8 @@ struct SceneConfig {
   // Empty: no grains, and none of their machinery runs.
   std::vector<Grain> grains;
   bool allow_overlapping_grains = false;
+  // What the checks of the input found worth saying but not refusing (narrow throats).
+  std::vector<std::string> warnings;
 
   WallType walls = WallType::None;
   double lower_wall_velocity = 0.0;  // along x

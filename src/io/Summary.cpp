@@ -26,27 +26,31 @@ JsonObject& JsonObject::add(const std::string& key, double value) {
   // JSON has no NaN or Inf: write null so that a reader sees "no number".
   char buffer[32] = "null";
   if (std::isfinite(value)) std::snprintf(buffer, sizeof buffer, "%.17g", value);
-  members_.push_back({key, Kind::Scalar, buffer, {}});
+  members_.push_back({key, Kind::Scalar, buffer, {}, {}});
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, long long value) {
-  members_.push_back({key, Kind::Scalar, std::to_string(value), {}});
+  members_.push_back({key, Kind::Scalar, std::to_string(value), {}, {}});
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, bool value) {
-  members_.push_back({key, Kind::Scalar, value ? "true" : "false", {}});
+  members_.push_back({key, Kind::Scalar, value ? "true" : "false", {}, {}});
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, const std::string& value) {
-  members_.push_back({key, Kind::Scalar, quote(value), {}});
+  members_.push_back({key, Kind::Scalar, quote(value), {}, {}});
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, const JsonObject& value) {
-  members_.push_back({key, Kind::Object, {}, {value}});
+  members_.push_back({key, Kind::Object, {}, {value}, {}});
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, const std::vector<JsonObject>& values) {
-  members_.push_back({key, Kind::Array, {}, values});
+  members_.push_back({key, Kind::Array, {}, values, {}});
+  return *this;
+}
+JsonObject& JsonObject::add(const std::string& key, const std::vector<std::string>& values) {
+  members_.push_back({key, Kind::StringArray, {}, {}, values});
   return *this;
 }
 
@@ -59,6 +63,10 @@ std::string JsonObject::str(int indent) const {
     out << (k ? ",\n" : "\n") << pad << quote(m.key) << ": ";
     if (m.kind == Kind::Scalar) {
       out << m.scalar;
+    } else if (m.kind == Kind::StringArray) {
+      out << "[";
+      for (size_t i = 0; i < m.strings.size(); ++i) out << (i ? ", " : "") << quote(m.strings[i]);
+      out << "]";
     } else if (m.kind == Kind::Object) {
       out << m.children.front().str(indent + 2);
     } else {

@@ -16,15 +16,17 @@ class JsonObject {
   JsonObject& add(const std::string& key, const char* value) { return add(key, std::string(value)); }
   JsonObject& add(const std::string& key, const JsonObject& value);
   JsonObject& add(const std::string& key, const std::vector<JsonObject>& values);
+  JsonObject& add(const std::string& key, const std::vector<std::string>& values);
   std::string str(int indent = 0) const;
 
  private:
-  enum class Kind { Scalar, Object, Array };
+  enum class Kind { Scalar, Object, Array, StringArray };
   struct Member {
     std::string key;
     Kind kind;
     std::string scalar;               // serialised number, bool or string
     std::vector<JsonObject> children; // one for Object, any number for Array
+    std::vector<std::string> strings; // StringArray
   };
   std::vector<Member> members_;
 };
