@@ -209,7 +209,7 @@ struct RunState {
   std::vector<double> steady_times, steady_values;  // the steady-state detector's window
   double steady_first_time = 0;
   std::vector<double> frame_steps, frame_times;     // field files so far
-  double max_density_variation = 0;
+  double max_density_variation = 0, max_density_drift = 0;
   double particles_inside_grains = 0, max_grain_penetration = 0;
 };
 
@@ -244,6 +244,7 @@ void write_checkpoint(const Simulation<Dim, ExecSpace>& sim, const std::string& 
     file.set_attribute("frame_steps", state.frame_steps);
     file.set_attribute("frame_times", state.frame_times);
     file.set_attribute("max_density_variation", state.max_density_variation);
+    file.set_attribute("max_density_drift", state.max_density_drift);
     file.set_attribute("particles_inside_grains", state.particles_inside_grains);
     file.set_attribute("max_grain_penetration", state.max_grain_penetration);
     const long long rows = n;
@@ -292,6 +293,7 @@ inline CheckpointInfo read_checkpoint_info(const std::string& path, MPI_Comm com
   st.frame_steps = file.double_array_attribute("frame_steps");
   st.frame_times = file.double_array_attribute("frame_times");
   st.max_density_variation = file.double_attribute("max_density_variation");
+  st.max_density_drift = file.double_attribute("max_density_drift");
   st.particles_inside_grains = file.double_attribute("particles_inside_grains");
   st.max_grain_penetration = file.double_attribute("max_grain_penetration");
   return info;

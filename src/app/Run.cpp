@@ -201,6 +201,8 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     }
   }
   auto check = [&]() {
+    report.max_density_variation = std::max(report.max_density_variation, sim.max_density_variation());
+    report.max_density_drift = std::max(report.max_density_drift, std::abs(sim.mean_density_drift()));
     const auto inside = sim.fluid_inside_grains();
     report.particles_inside_grains = std::max(report.particles_inside_grains, inside.particles);
     report.max_grain_penetration =
@@ -239,6 +241,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     state.frame_steps = fields.frame_steps();
     state.frame_times = fields.frame_times();
     state.max_density_variation = report.max_density_variation;
+    state.max_density_drift = report.max_density_drift;
     state.particles_inside_grains = static_cast<double>(report.particles_inside_grains);
     state.max_grain_penetration = report.max_grain_penetration;
     write_checkpoint(sim, checkpoint_path, state, options.parameters_xml, rates_valid);
@@ -323,6 +326,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   report.threads = ExecSpace::concurrency();
   report.backend = backend_name<ExecSpace>();
   report.max_density_variation = std::max(report.max_density_variation, sim.max_density_variation());
+  report.max_density_drift = std::max(report.max_density_drift, std::abs(sim.mean_density_drift()));
   report.neighbour_rebuilds += sim.neighbour_rebuilds();
   report.neighbours_per_particle = static_cast<double>(sim.neighbour_pairs()) / sim.particles().owned;
   report.channel = report.channel || channel;
@@ -360,6 +364,7 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
                                   "D");
     const auto& st = resume_from->state;
     report.max_density_variation = st.max_density_variation;
+    report.max_density_drift = st.max_density_drift;
     report.particles_inside_grains = static_cast<long long>(st.particles_inside_grains);
     report.max_grain_penetration = st.max_grain_penetration;
     // Columns of the tensor already finished before the checkpoint.
@@ -438,6 +443,7 @@ JsonObject RunReport::to_json() const {
       .add("threads", threads)
       .add("backend", backend)
       .add("max_density_variation", max_density_variation)
+      .add("max_density_drift", max_density_drift)
       .add("neighbour_rebuilds", neighbour_rebuilds)
       .add("neighbours_per_particle", neighbours_per_particle);
   if (channel) {

@@ -49,7 +49,8 @@ struct RunReport {
   double wall_seconds = 0, setup_seconds = 0, particle_steps_per_second = 0;
   int ranks = 1, threads = 1;
   std::string backend;
-  double max_density_variation = 0;
+  double max_density_variation = 0;  // max |rho/rho0 - 1| of fluid, over the checks of the run and its end
+  double max_density_drift = 0;      // max |<rho>/rho0 - 1| of fluid, likewise
   long long neighbour_rebuilds = 0;
   double neighbours_per_particle = 0;  // listed pairs (support + skin) per owned particle
   bool channel = false;

@@ -416,6 +416,21 @@ double Simulation<Dim, ExecSpace>::max_density_variation() const {
 }
 
 template <int Dim, class ExecSpace>
+double Simulation<Dim, ExecSpace>::mean_density_drift() const {
+  const auto rho = particles_.rho;
+  const auto kind = particles_.kind;
+  double sum = 0.0;
+  static const std::string label_mean_density = "poresph::mean_density";
+  Kokkos::parallel_reduce(
+      label_mean_density, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      KOKKOS_LAMBDA(int i, double& total) {
+        if (kind(i) == kFluid) total += rho(i);
+      },
+      sum);
+  return comm_.sum(sum) / (fluid_count_ * scene_.density) - 1.0;
+}
+
+template <int Dim, class ExecSpace>
 Vec<Dim> Simulation<Dim, ExecSpace>::superficial_velocity() const {
   const auto v = particles_.v;
   const auto m = particles_.m, rho = particles_.rho;

@@ -113,6 +113,8 @@ class Simulation {
   const Communicator& communicator() const { return comm_; }
   // max |rho/rho0 - 1| over fluid particles.
   double max_density_variation() const;
+  // <rho>/rho0 - 1 over fluid particles: the drift of the mean density.
+  double mean_density_drift() const;
   // Darcy's superficial velocity <u> = (1/V_cell) sum over fluid of (m/rho) v.
   Vec<Dim> superficial_velocity() const;
   // Fluid particles whose position lies inside a grain now (0 in a correct

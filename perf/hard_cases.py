@@ -1,0 +1,120 @@
+#!/usr/bin/python3
+"""The hard cases of input/hard/ (and the lowest-porosity square arrays),
+each with and without the stability remedies a scene can switch on:
+particle shifting (Discretization/Particle Shifting) and density
+re-summation (Discretization/Density Resummation Interval).
+
+    perf/hard_cases.py [--build build] [--out build/hard-cases] [--quick]
+
+Writes hard_cases.csv into --out and prints the Markdown table for
+docs/hard_cases.md: what ran, the largest density variation, fluid particles
+found inside grains (and how many were put back on a surface), k against its
+reference, steps, wall time and how the run ended. --quick leaves out the
+fine-spacing throat runs (minutes each).
+"""
+import argparse
+import csv
+import os
+import sys
+
+from poresph_runs import ROOT, run_poresph
+
+L = 0.1
+SANGANI_ACRIVOS = {0.2: 1 / 51.53, 0.6: 1 / 1763, 0.7: 1 / 13520}
+
+# (case, scene, settings, reference k/L^2 or None, what the reference is)
+NO_SHIFTING = ["Discretization/Particle Shifting=0"]
+RESUM = ["Discretization/Density Resummation Interval=20"]
+
+
+def cases(quick):
+    c20 = SANGANI_ACRIVOS[0.2]
+    rows = [
+        ("grain across the corner", "hard/corner_grain.xml", [], "centred", "the centred grain, same dx"),
+        ("grain across the corner, no shifting", "hard/corner_grain.xml", NO_SHIFTING, "centred-noshift",
+         "the centred grain, same dx"),
+        ("Re about 1 (F x 5)", "hard/high_force.xml", [], c20, "Sangani-Acrivos (creeping flow)"),
+        ("Re about 1 (F x 5), no shifting", "hard/high_force.xml", NO_SHIFTING, c20, "Sangani-Acrivos (creeping flow)"),
+        ("Re about 1 (F x 5), re-summation", "hard/high_force.xml", RESUM, c20, "Sangani-Acrivos (creeping flow)"),
+        ("long run, 1e5 steps, re-summation every 20", "hard/long_run.xml", [], c20, "Sangani-Acrivos"),
+        ("long run, 1e5 steps, no re-summation", "hard/long_run.xml",
+         ["Discretization/Density Resummation Interval=0"], c20, "Sangani-Acrivos"),
+        ("long run, 1e5 steps, no re-summation, no shifting", "hard/long_run.xml",
+         ["Discretization/Density Resummation Interval=0"] + NO_SHIFTING, c20, "Sangani-Acrivos"),
+        ("solid fraction 0.6", "square_array/square_array_c60.xml", ["Discretization/Particle Spacing=0.001"],
+         SANGANI_ACRIVOS[0.6], "Sangani-Acrivos"),
+        ("solid fraction 0.7", "square_array/square_array_c70.xml", ["Discretization/Particle Spacing=0.001"],
+         SANGANI_ACRIVOS[0.7], "Sangani-Acrivos"),
+        ("solid fraction 0.7, no shifting", "square_array/square_array_c70.xml",
+         ["Discretization/Particle Spacing=0.001"] + NO_SHIFTING, SANGANI_ACRIVOS[0.7], "Sangani-Acrivos"),
+    ]
+    if not quick:
+        rows += [
+            ("throat 0.01 L = 2 dx", "hard/throat.xml", [], None,
+             "none yet: at 4 dx the run to a steady k takes about an hour on this machine"),
+            ("touching grains (throat closed), dx = 0.005 L", "hard/touching.xml", [], None,
+             "below the open throat's k"),
+            ("throat 0.01 L = 4 dx (3000 steps: stability only)", "hard/throat.xml",
+             ["Discretization/Particle Spacing=0.00025", "Run/Max Steps=3000"], None, "-"),
+        ]
+    return rows
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--out", default=os.path.join(ROOT, "build", "hard-cases"))
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--ranks", type=int, default=None, help="run each case on this many MPI ranks")
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+
+    # References that are themselves runs.
+    computed = {}
+    computed["centred"] = run_poresph(args.build, "square_array/square_array_c20.xml", os.path.join(args.out, "centred"),
+                                      ["Discretization/Particle Spacing=0.002"], ranks=args.ranks)
+    computed["centred-noshift"] = run_poresph(args.build, "square_array/square_array_c20.xml",
+                                              os.path.join(args.out, "centred-noshift"),
+                                              ["Discretization/Particle Spacing=0.002"] + NO_SHIFTING, ranks=args.ranks)
+
+    rows = []
+    for number, (name, scene, settings, reference, reference_name) in enumerate(cases(args.quick)):
+        s = run_poresph(args.build, scene, os.path.join(args.out, f"case{number:02d}"), settings, ranks=args.ranks,
+                        allow_failure=True)
+        # k along the force: kxx for F along x, kyy for F along y.
+        measured = s.get("permeability", {})
+        k = measured.get("kxx") if "kxx" in measured else measured.get("kyy")
+        if isinstance(reference, str):
+            ref_summary = computed.get(reference)
+            reference = ref_summary["permeability"]["kxx"] / L**2 if ref_summary else None
+        row = dict(case=name, scene=scene, settings=" ".join(settings), stopped_by=s["stopped_by"],
+                   steps=s["steps"], wall_seconds=s["wall_seconds"],
+                   max_density_variation=s["max_density_variation"],
+                   particles_inside_grains=s.get("particles_inside_grains", 0),
+                   grain_surface_corrections=s.get("grain_surface_corrections", 0),
+                   k_over_L2=k / L**2 if k is not None else None, reference=reference,
+                   reference_is=reference_name, reynolds=s.get("reynolds_number"),
+                   failure=s.get("failure", ""), warnings=" | ".join(s.get("warnings", [])))
+        row["relative_error"] = (row["k_over_L2"] / reference - 1) if reference and row["k_over_L2"] else None
+        rows.append(row)
+        print(f"{name}: {s['stopped_by']}, k/L^2 {row['k_over_L2']}, {s['wall_seconds']:.0f} s", file=sys.stderr,
+              flush=True)
+        with open(os.path.join(args.out, "hard_cases.csv"), "w", newline="") as f:
+            writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
+
+    print("| case | ended by | max drho/rho | inside grains (put back) | k/L^2 | reference | error % | Re | steps | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        k = f"{r['k_over_L2']:.5g}" if r["k_over_L2"] is not None else "-"
+        ref = f"{r['reference']:.5g} ({r['reference_is']})" if r["reference"] else r["reference_is"]
+        err = f"{100 * r['relative_error']:+.2f}" if r["relative_error"] is not None else "-"
+        re = f"{r['reynolds']:.2f}" if r["reynolds"] is not None else "-"
+        print(f"| {r['case']} | {r['stopped_by']} | {r['max_density_variation']:.4f} | "
+              f"{r['particles_inside_grains']} ({r['grain_surface_corrections']}) | {k} | {ref} | {err} | {re} | "
+              f"{r['steps']} | {r['wall_seconds']:.0f} |")
+
+
+if __name__ == "__main__":
+    main()

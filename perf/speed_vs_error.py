@@ -1,0 +1,130 @@
+#!/usr/bin/python3
+"""Speed against error: the relative error of k against the wall time it
+took, for the square arrays of solid fraction 0.2 and 0.5 (reference:
+Sangani & Acrivos 1982) and problem III (reference: the finest PoreSPH run,
+dx = 0.0025 L), at several resolutions; at the middle resolution also with
+another delta of the speed-of-sound rule and with density re-summation.
+Every run stops by itself when k is steady.
+
+    perf/speed_vs_error.py [--build build] [--out build/speed-vs-error]
+        --problem3-runs DIR_dx0.0005 DIR_dx0.00025
+
+Problem III at dx = 0.005 L and 0.0025 L takes 7 and about 60 minutes on two
+ranks; those runs are made once (input/problem3/problem3.xml with
+Discretization/Particle Spacing set) and their output directories given
+here; the coarser ones are run by the script. The finest is the reference.
+Writes speed_vs_error.csv into --out and docs/figures/speed_vs_error.png,
+and prints the table for docs/speed_vs_error.md, with what the steady-state
+stop saved against running to the scene's End Time.
+"""
+import argparse
+import csv
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from poresph_runs import ROOT, run_poresph  # noqa: E402
+
+L = 0.1
+SANGANI_ACRIVOS = {20: 1 / 51.53, 50: 1 / 532.55}
+END_TIME = 8000.0  # of the scenes below: what a run without the steady-state stop would simulate
+
+
+def row(scene, variant, dx, summary, reference, ranks):
+    measured = summary["permeability"]
+    k = measured["kxx"] / L**2
+    steps_to_end = END_TIME / summary["time_step"]
+    return dict(scene=scene, variant=variant, dx_over_L=dx / L, k_over_L2=k, reference=reference,
+                relative_error=k / reference - 1 if reference else None, steady=summary["steady"],
+                steps=summary["steps"], wall_seconds=summary["wall_seconds"], ranks=ranks,
+                wall_seconds_to_end_time=summary["wall_seconds"] * steps_to_end / summary["steps"])
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--out", default=os.path.join(ROOT, "build", "speed-vs-error"))
+    parser.add_argument("--problem3-runs", nargs=2, required=True, metavar=("DX_0.005L", "DX_0.0025L"))
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    rows = []
+
+    def save():
+        with open(os.path.join(args.out, "speed_vs_error.csv"), "w", newline="") as f:
+            writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
+
+    variants = [("default", [])]
+    middle_variants = [("delta 0.03", ["Fluid/Density Variation=0.03"]),
+                       ("delta 0.003", ["Fluid/Density Variation=0.003"]),
+                       ("re-summation every 20", ["Discretization/Density Resummation Interval=20"])]
+    for fraction, reference in SANGANI_ACRIVOS.items():
+        scene = f"square_array/square_array_c{fraction}.xml"
+        for dx in [0.004, 0.002, 0.001]:
+            for variant, settings in variants + (middle_variants if dx == 0.002 else []):
+                out = os.path.join(args.out, f"c{fraction}-dx{dx}-{variant.replace(' ', '_')}")
+                s = run_poresph(args.build, scene, out, [f"Discretization/Particle Spacing={dx!r}"] + settings)
+                rows.append(row(f"square array c = 0.{fraction // 10}", variant, dx, s, reference, 1))
+                print(rows[-1], file=sys.stderr, flush=True)
+                save()
+
+    # Problem III: the finest run is the reference.
+    def load(directory):
+        with open(os.path.join(directory, "summary.json")) as f:
+            return json.load(f)
+
+    finest = load(args.problem3_runs[1])
+    reference = finest["permeability"]["kxx"] / L**2
+    for dx in [0.002, 0.001]:
+        out = os.path.join(args.out, f"problem3-dx{dx}")
+        s = run_poresph(args.build, "problem3/problem3.xml", out, [f"Discretization/Particle Spacing={dx!r}"])
+        rows.append(row("problem III", "default", dx, s, reference, 1))
+        print(rows[-1], file=sys.stderr, flush=True)
+    for directory, dx in zip(args.problem3_runs, [0.0005, 0.00025]):
+        s = load(directory)
+        rows.append(row("problem III", "default", dx, s, reference if dx != 0.00025 else None, s["ranks"]))
+    save()
+
+    # The plot: |error| against wall time, one curve per scene (default runs), variants as markers.
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for scene, colour in [("square array c = 0.2", "C0"), ("square array c = 0.5", "C1"), ("problem III", "C2")]:
+        sel = sorted((r for r in rows if r["scene"] == scene and r["variant"] == "default" and r["relative_error"]),
+                     key=lambda r: r["wall_seconds"] * r["ranks"])
+        ax.loglog([r["wall_seconds"] * r["ranks"] for r in sel], [abs(r["relative_error"]) for r in sel], "o-",
+                  color=colour, label=scene)
+        for r in sel:
+            ax.annotate(f"dx={r['dx_over_L']:g}L", (r["wall_seconds"] * r["ranks"], abs(r["relative_error"])),
+                        fontsize=7, textcoords="offset points", xytext=(4, 4))
+        for marker, variant in [("^", "delta 0.03"), ("v", "delta 0.003"), ("s", "re-summation every 20")]:
+            sel = [r for r in rows if r["scene"] == scene and r["variant"] == variant]
+            if sel:
+                ax.loglog([r["wall_seconds"] for r in sel], [abs(r["relative_error"]) for r in sel], marker,
+                          color=colour, mfc="none", label=f"{scene}, {variant} (dx = 0.02 L)")
+    for level in [0.05, 0.02, 0.01]:
+        ax.axhline(level, color="grey", lw=0.5, ls=":")
+    ax.set_xlabel("wall time to a steady k (core-seconds)")
+    ax.set_ylabel("|relative error of k|")
+    ax.set_title("PoreSPH: speed against error (steady-state stop, this machine)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    figure = os.path.join(ROOT, "docs", "figures", "speed_vs_error.png")
+    fig.savefig(figure, dpi=130)
+    print(f"wrote {figure}", file=sys.stderr)
+
+    print("| scene | variant | dx/L | k/L^2 | reference | error % | steps | wall s | ranks | wall s to End Time | saved |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        err = f"{100 * r['relative_error']:+.2f}" if r["relative_error"] is not None else "(reference)"
+        print(f"| {r['scene']} | {r['variant']} | {r['dx_over_L']:g} | {r['k_over_L2']:.5g} | {r['reference']:.5g} | "
+              f"{err} | {r['steps']} | {r['wall_seconds']:.0f} | {r['ranks']} | {r['wall_seconds_to_end_time']:.0f} | "
+              f"{r['wall_seconds_to_end_time'] / r['wall_seconds']:.1f}x |")
+
+
+if __name__ == "__main__":
+    main()
