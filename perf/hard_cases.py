@@ -66,6 +66,8 @@ def main():
     parser.add_argument("--out", default=os.path.join(ROOT, "build", "hard-cases"))
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--ranks", type=int, default=None, help="run each case on this many MPI ranks")
+    parser.add_argument("--only", default=None, help="run only the cases whose name contains this text")
+    parser.add_argument("--csv", default="hard_cases.csv", help="file name of the CSV in --out")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
 
@@ -79,6 +81,8 @@ def main():
 
     rows = []
     for number, (name, scene, settings, reference, reference_name) in enumerate(cases(args.quick)):
+        if args.only and args.only not in name:
+            continue
         s = run_poresph(args.build, scene, os.path.join(args.out, f"case{number:02d}"), settings, ranks=args.ranks,
                         allow_failure=True)
         # k along the force: kxx for F along x, kyy for F along y.
@@ -90,6 +94,7 @@ def main():
         row = dict(case=name, scene=scene, settings=" ".join(settings), stopped_by=s["stopped_by"],
                    steps=s["steps"], wall_seconds=s["wall_seconds"],
                    max_density_variation=s["max_density_variation"],
+                   max_density_drift=s.get("max_density_drift"),
                    particles_inside_grains=s.get("particles_inside_grains", 0),
                    grain_surface_corrections=s.get("grain_surface_corrections", 0),
                    k_over_L2=k / L**2 if k is not None else None, reference=reference,
@@ -99,19 +104,20 @@ def main():
         rows.append(row)
         print(f"{name}: {s['stopped_by']}, k/L^2 {row['k_over_L2']}, {s['wall_seconds']:.0f} s", file=sys.stderr,
               flush=True)
-        with open(os.path.join(args.out, "hard_cases.csv"), "w", newline="") as f:
+        with open(os.path.join(args.out, args.csv), "w", newline="") as f:
             writer = csv.DictWriter(f, fieldnames=list(rows[0]))
             writer.writeheader()
             writer.writerows(rows)
 
-    print("| case | ended by | max drho/rho | inside grains (put back) | k/L^2 | reference | error % | Re | steps | wall s |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| case | ended by | max drho/rho | mean drift | inside grains (put back) | k/L^2 | reference | error % | Re | steps | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         k = f"{r['k_over_L2']:.5g}" if r["k_over_L2"] is not None else "-"
         ref = f"{r['reference']:.5g} ({r['reference_is']})" if r["reference"] else r["reference_is"]
         err = f"{100 * r['relative_error']:+.2f}" if r["relative_error"] is not None else "-"
         re = f"{r['reynolds']:.2f}" if r["reynolds"] is not None else "-"
-        print(f"| {r['case']} | {r['stopped_by']} | {r['max_density_variation']:.4f} | "
+        drift = f"{r['max_density_drift']:.4f}" if r["max_density_drift"] is not None else "-"
+        print(f"| {r['case']} | {r['stopped_by']} | {r['max_density_variation']:.4f} | {drift} | "
               f"{r['particles_inside_grains']} ({r['grain_surface_corrections']}) | {k} | {ref} | {err} | {re} | "
               f"{r['steps']} | {r['wall_seconds']:.0f} |")
 

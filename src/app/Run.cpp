@@ -328,7 +328,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   report.max_density_variation = std::max(report.max_density_variation, sim.max_density_variation());
   report.max_density_drift = std::max(report.max_density_drift, std::abs(sim.mean_density_drift()));
   report.neighbour_rebuilds += sim.neighbour_rebuilds();
-  report.neighbours_per_particle = static_cast<double>(sim.neighbour_pairs()) / sim.particles().owned;
+  report.neighbours_per_particle = sim.neighbours_per_particle();
   report.channel = report.channel || channel;
   const auto corrected = sim.grain_surface_corrections();
   report.grain_surface_corrections += corrected.particles;

@@ -106,6 +106,8 @@ class Simulation {
   // Neighbour-list rebuilds so far (the list is kept while particles move less than half the skin).
   long long neighbour_rebuilds() const { return rebuilds_; }
   long long neighbour_pairs() const { return neighbours_.pairs(); }
+  // Listed neighbours (support and skin) per owned particle, counting both ends of a half list's pairs.
+  double neighbours_per_particle() const { return neighbours_.neighbours_per_particle(); }
 
   // Over all processes.
   long long fluid_particles() const { return fluid_count_; }

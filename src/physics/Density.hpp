@@ -32,20 +32,32 @@ void resum_fluid_density(const ExecSpace& space, const Particles<Dim, typename E
                          const NeighbourList<Dim, ExecSpace>& neighbours, const QuinticKernel<Dim>& kernel) {
   const auto x = P.x, m = P.m, rho = P.rho;
   const auto kind = P.kind;
+  const int owned = P.owned;
+  // The sums start from the particle's own term (the list leaves it out)
+  // and, with a half list, gather each pair from both ends.
+  static const std::string label_self = "poresph::resum_fluid_density::self";
+  Kokkos::parallel_for(
+      label_self, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int a) {
+        if (kind(a) == kFluid) rho(a) = m(a) * kernel.value(0.0);
+      });
   static const std::string label_resum_fluid_density = "poresph::resum_fluid_density";
   Kokkos::parallel_for(
-      label_resum_fluid_density, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
+      label_resum_fluid_density, Kokkos::RangePolicy<ExecSpace>(space, 0, owned),
       KOKKOS_LAMBDA(int a) {
-        if (kind(a) != kFluid) return;
+        const bool a_is_fluid = kind(a) == kFluid;
         const Vec<Dim> x_a = row<Dim>(x, a);
-        double sum = m(a) * kernel.value(0.0);  // the list leaves out the particle itself
+        double sum = 0.0;
         for (int k = neighbours.begin(a); k < neighbours.end(a); ++k) {
           const int b = neighbours.neighbour(k);
           const Vec<Dim> r_ab = x_a - row<Dim>(x, b);
           const double r_sq = dot(r_ab, r_ab);
-          if (r_sq < kernel.cutoff_sq) sum += m(b) * kernel.value(math::sqrt(r_sq));
+          if (r_sq >= kernel.cutoff_sq) continue;
+          const double w = kernel.value(math::sqrt(r_sq));
+          sum += m(b) * w;
+          if constexpr (NeighbourList<Dim, ExecSpace>::kHalf)
+            if (b < owned && kind(b) == kFluid) rho(b) += m(a) * w;
         }
-        rho(a) = sum;
+        if (a_is_fluid) rho(a) += sum;
       });
 }
 
