@@ -13,11 +13,10 @@ reference, steps, wall time and how the run ended. --quick leaves out the
 fine-spacing throat runs (minutes each).
 """
 import argparse
-import csv
 import os
 import sys
 
-from poresph_runs import ROOT, run_poresph
+from poresph_runs import ROOT, run_poresph, write_csv
 
 L = 0.1
 SANGANI_ACRIVOS = {0.2: 1 / 51.53, 0.6: 1 / 1763, 0.7: 1 / 13520}
@@ -104,10 +103,7 @@ def main():
         rows.append(row)
         print(f"{name}: {s['stopped_by']}, k/L^2 {row['k_over_L2']}, {s['wall_seconds']:.0f} s", file=sys.stderr,
               flush=True)
-        with open(os.path.join(args.out, args.csv), "w", newline="") as f:
-            writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-            writer.writeheader()
-            writer.writerows(rows)
+        write_csv(os.path.join(args.out, args.csv), rows)
 
     print("| case | ended by | max drho/rho | mean drift | inside grains (put back) | k/L^2 | reference | error % | Re | steps | wall s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")

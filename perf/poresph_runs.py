@@ -1,5 +1,6 @@
 """Running poresph from the perf scripts: one scene of input/, --set
 overrides, on one process or under mpiexec; returns the run's summary.json."""
+import csv
 import json
 import os
 import subprocess
@@ -31,3 +32,11 @@ def run_poresph(build, scene, directory, settings=(), ranks=None, threads=1, all
         raise subprocess.CalledProcessError(done.returncode, cmd)
     with open(os.path.join(directory, "summary.json")) as f:
         return json.load(f)
+
+
+def write_csv(path, rows):
+    """Writes a list of dicts (all with the first row's keys) as CSV."""
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)

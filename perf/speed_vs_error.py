@@ -18,7 +18,6 @@ and prints the table for docs/speed_vs_error.md, with what the steady-state
 stop saved against running to the scene's End Time.
 """
 import argparse
-import csv
 import json
 import os
 import sys
@@ -28,7 +27,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from poresph_runs import ROOT, run_poresph  # noqa: E402
+from poresph_runs import ROOT, run_poresph, write_csv  # noqa: E402
 
 L = 0.1
 SANGANI_ACRIVOS = {20: 1 / 51.53, 50: 1 / 532.55}
@@ -55,10 +54,7 @@ def main():
     rows = []
 
     def save():
-        with open(os.path.join(args.out, "speed_vs_error.csv"), "w", newline="") as f:
-            writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-            writer.writeheader()
-            writer.writerows(rows)
+        write_csv(os.path.join(args.out, "speed_vs_error.csv"), rows)
 
     variants = [("default", [])]
     middle_variants = [("delta 0.03", ["Fluid/Density Variation=0.03"]),

@@ -10,12 +10,11 @@ docs/validation.md: k/L^2, reference, relative error, observed order of
 convergence between successive resolutions, steps and wall time.
 """
 import argparse
-import csv
 import math
 import os
 import sys
 
-from poresph_runs import ROOT, run_poresph
+from poresph_runs import ROOT, run_poresph, write_csv
 
 DRAG = {5: 15.56, 10: 24.83, 20: 51.53, 30: 102.90, 40: 217.89, 50: 532.55, 60: 1763, 70: 13520}
 L = 0.1
@@ -49,10 +48,7 @@ def main():
                              particles_inside_grains=s["particles_inside_grains"], reynolds=s["reynolds_number"]))
             print(f"c = {fraction / 100:.2f} dx = {dx:g}: error {100 * rows[-1]['relative_error']:+.2f} % "
                   f"({s['stopped_by']}, {s['wall_seconds']:.0f} s)", file=sys.stderr, flush=True)
-            with open(os.path.join(args.out, "square_arrays.csv"), "w", newline="") as f:
-                writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-                writer.writeheader()
-                writer.writerows(rows)
+            write_csv(os.path.join(args.out, "square_arrays.csv"), rows)
 
     print("| c | dx/L | k/L^2 SPH | k/L^2 Sangani-Acrivos | error % | order | steady | steps | wall s | max drho/rho | inside |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
