@@ -211,6 +211,7 @@ struct RunState {
   std::vector<double> frame_steps, frame_times;     // field files so far
   double max_density_variation = 0, max_density_drift = 0;
   double particles_inside_grains = 0, max_grain_penetration = 0;
+  double grain_surface_corrections = 0, max_corrected_depth = 0;
 };
 
 // checkpoint.h5: every owned field by its label, the positions at the last
@@ -247,6 +248,8 @@ void write_checkpoint(const Simulation<Dim, ExecSpace>& sim, const std::string& 
     file.set_attribute("max_density_drift", state.max_density_drift);
     file.set_attribute("particles_inside_grains", state.particles_inside_grains);
     file.set_attribute("max_grain_penetration", state.max_grain_penetration);
+    file.set_attribute("grain_surface_corrections", state.grain_surface_corrections);
+    file.set_attribute("max_corrected_depth", state.max_corrected_depth);
     const long long rows = n;
     file.write_rows("rank_rows", &rows, 1, 0);
     P.for_each_owned_field([&](const auto& view) {
@@ -296,6 +299,8 @@ inline CheckpointInfo read_checkpoint_info(const std::string& path, MPI_Comm com
   st.max_density_drift = file.double_attribute("max_density_drift");
   st.particles_inside_grains = file.double_attribute("particles_inside_grains");
   st.max_grain_penetration = file.double_attribute("max_grain_penetration");
+  st.grain_surface_corrections = file.double_attribute("grain_surface_corrections");
+  st.max_corrected_depth = file.double_attribute("max_corrected_depth");
   return info;
 }
 

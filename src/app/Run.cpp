@@ -244,6 +244,9 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     state.max_density_drift = report.max_density_drift;
     state.particles_inside_grains = static_cast<double>(report.particles_inside_grains);
     state.max_grain_penetration = report.max_grain_penetration;
+    const auto corrected = sim.grain_surface_corrections();  // since this process started
+    state.grain_surface_corrections = static_cast<double>(report.grain_surface_corrections + corrected.particles);
+    state.max_corrected_depth = std::max(report.max_corrected_depth, corrected.max_depth / scene.particle_spacing);
     write_checkpoint(sim, checkpoint_path, state, options.parameters_xml, rates_valid);
   };
 
@@ -367,6 +370,8 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
     report.max_density_drift = st.max_density_drift;
     report.particles_inside_grains = static_cast<long long>(st.particles_inside_grains);
     report.max_grain_penetration = st.max_grain_penetration;
+    report.grain_surface_corrections = static_cast<long long>(st.grain_surface_corrections);
+    report.max_corrected_depth = st.max_corrected_depth;
     // Columns of the tensor already finished before the checkpoint.
     for (size_t k = 0; k + Dim + 2 <= st.completed_columns.size(); k += Dim + 2) {
       const int j = static_cast<int>(st.completed_columns[k]);
