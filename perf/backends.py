@@ -45,11 +45,13 @@ def main():
     parser.add_argument("--out", default=os.path.join(ROOT, "build-openmp", "backends"))
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--problems", nargs="+", default=list(SCENES), choices=list(SCENES))
+    parser.add_argument("--spacings", type=float, nargs="+", default=[0.0005, 0.00025])
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     rows = []
-    for problem, scene in SCENES.items():
-        for dx in [0.0005, 0.00025]:
+    for problem, scene in ((p, SCENES[p]) for p in args.problems):
+        for dx in args.spacings:
             # Repeats interleave the configurations, so that a slow spell of the
             # shared machine does not fall on one configuration only.
             samples = {c[0]: [] for c in CONFIGS}

@@ -7,7 +7,7 @@ another delta of the speed-of-sound rule and with density re-summation.
 Every run stops by itself when k is steady.
 
     perf/speed_vs_error.py [--build build] [--out build/speed-vs-error]
-        --problem3-runs DIR_dx0.0005 DIR_dx0.00025
+        --problem3-runs DIR_dx0.0005 DIR_dx0.00025 [--square-arrays-csv build/square-arrays/square_arrays.csv]
 
 Problem III at dx = 0.005 L and 0.0025 L takes 7 and about 60 minutes on two
 ranks; those runs are made once (input/problem3/problem3.xml with
@@ -18,6 +18,7 @@ and prints the table for docs/speed_vs_error.md, with what the steady-state
 stop saved against running to the scene's End Time.
 """
 import argparse
+import csv
 import json
 import os
 import sys
@@ -48,7 +49,11 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
     parser.add_argument("--out", default=os.path.join(ROOT, "build", "speed-vs-error"))
-    parser.add_argument("--problem3-runs", nargs=2, required=True, metavar=("DX_0.005L", "DX_0.0025L"))
+    parser.add_argument("--problem3-runs", nargs=2, default=None, metavar=("DX_0.005L", "DX_0.0025L"),
+                        help="without them problem III is left out")
+    parser.add_argument("--square-arrays-csv", default=None,
+                        help="take the default runs of c = 0.2 and 0.5 from perf/square_arrays.py's CSV "
+                             "instead of running them again")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     rows = []
@@ -60,10 +65,24 @@ def main():
     middle_variants = [("delta 0.03", ["Fluid/Density Variation=0.03"]),
                        ("delta 0.003", ["Fluid/Density Variation=0.003"]),
                        ("re-summation every 20", ["Discretization/Density Resummation Interval=20"])]
+    earlier = []
+    if args.square_arrays_csv:
+        with open(args.square_arrays_csv) as f:
+            earlier = list(csv.DictReader(f))
     for fraction, reference in SANGANI_ACRIVOS.items():
         scene = f"square_array/square_array_c{fraction}.xml"
         for dx in [0.004, 0.002, 0.001]:
-            for variant, settings in variants + (middle_variants if dx == 0.002 else []):
+            done = [r for r in earlier if round(float(r["solid_fraction"]) * 100) == fraction
+                    and abs(float(r["dx_over_L"]) - dx / L) < 1e-9]
+            if done:
+                r = done[0]
+                k = float(r["k_over_L2"])
+                steps, wall = int(r["steps"]), float(r["wall_seconds"])
+                rows.append(dict(scene=f"square array c = 0.{fraction // 10}", variant="default", dx_over_L=dx / L,
+                                 k_over_L2=k, reference=reference, relative_error=k / reference - 1,
+                                 steady=r["steady"], steps=steps, wall_seconds=wall, ranks=1,
+                                 wall_seconds_to_end_time=wall * (END_TIME / float(r["simulated_time"]))))
+            for variant, settings in (variants if not done else []) + (middle_variants if dx == 0.002 else []):
                 out = os.path.join(args.out, f"c{fraction}-dx{dx}-{variant.replace(' ', '_')}")
                 s = run_poresph(args.build, scene, out, [f"Discretization/Particle Spacing={dx!r}"] + settings)
                 rows.append(row(f"square array c = 0.{fraction // 10}", variant, dx, s, reference, 1))
@@ -75,9 +94,12 @@ def main():
         with open(os.path.join(directory, "summary.json")) as f:
             return json.load(f)
 
-    finest = load(args.problem3_runs[1])
-    reference = finest["permeability"]["kxx"] / L**2
-    for dx in [0.002, 0.001]:
+    if args.problem3_runs is None:
+        args.problem3_runs = []
+        print("problem III left out: no --problem3-runs", file=sys.stderr)
+    finest = load(args.problem3_runs[1]) if args.problem3_runs else None
+    reference = finest["permeability"]["kxx"] / L**2 if finest else None
+    for dx in [0.002, 0.001] if finest else []:
         out = os.path.join(args.out, f"problem3-dx{dx}")
         s = run_poresph(args.build, "problem3/problem3.xml", out, [f"Discretization/Particle Spacing={dx!r}"])
         rows.append(row("problem III", "default", dx, s, reference, 1))
