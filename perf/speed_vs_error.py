@@ -114,6 +114,8 @@ def main():
     for scene, colour in [("square array c = 0.2", "C0"), ("square array c = 0.5", "C1"), ("problem III", "C2")]:
         sel = sorted((r for r in rows if r["scene"] == scene and r["variant"] == "default" and r["relative_error"]),
                      key=lambda r: r["wall_seconds"] * r["ranks"])
+        if not sel:
+            continue
         ax.loglog([r["wall_seconds"] * r["ranks"] for r in sel], [abs(r["relative_error"]) for r in sel], "o-",
                   color=colour, label=scene)
         for r in sel:
