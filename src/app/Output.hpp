@@ -212,6 +212,24 @@ struct RunState {
   double max_density_variation = 0, max_density_drift = 0;
   double particles_inside_grains = 0, max_grain_penetration = 0;
   double grain_surface_corrections = 0, max_corrected_depth = 0;
+
+  // f(name, member) for every member but drive_axis: the checkpoint writes
+  // and reads the same list, each under its attribute name.
+  template <class State, class F>
+  static void for_each_attribute(State& state, F&& f) {
+    f("completed_columns", state.completed_columns);
+    f("steady_times", state.steady_times);
+    f("steady_values", state.steady_values);
+    f("steady_first_time", state.steady_first_time);
+    f("frame_steps", state.frame_steps);
+    f("frame_times", state.frame_times);
+    f("max_density_variation", state.max_density_variation);
+    f("max_density_drift", state.max_density_drift);
+    f("particles_inside_grains", state.particles_inside_grains);
+    f("max_grain_penetration", state.max_grain_penetration);
+    f("grain_surface_corrections", state.grain_surface_corrections);
+    f("max_corrected_depth", state.max_corrected_depth);
+  }
 };
 
 // checkpoint.h5: every owned field by its label, the positions at the last
@@ -238,18 +256,7 @@ void write_checkpoint(const Simulation<Dim, ExecSpace>& sim, const std::string& 
         boxes.push_back(sim.decomposition().box(r).lo[d]), boxes.push_back(sim.decomposition().box(r).hi[d]);
     file.set_attribute("boxes", boxes);
     file.set_attribute("drive_axis", static_cast<long long>(state.drive_axis));
-    file.set_attribute("completed_columns", state.completed_columns);
-    file.set_attribute("steady_times", state.steady_times);
-    file.set_attribute("steady_values", state.steady_values);
-    file.set_attribute("steady_first_time", state.steady_first_time);
-    file.set_attribute("frame_steps", state.frame_steps);
-    file.set_attribute("frame_times", state.frame_times);
-    file.set_attribute("max_density_variation", state.max_density_variation);
-    file.set_attribute("max_density_drift", state.max_density_drift);
-    file.set_attribute("particles_inside_grains", state.particles_inside_grains);
-    file.set_attribute("max_grain_penetration", state.max_grain_penetration);
-    file.set_attribute("grain_surface_corrections", state.grain_surface_corrections);
-    file.set_attribute("max_corrected_depth", state.max_corrected_depth);
+    RunState::for_each_attribute(state, [&](const char* name, const auto& value) { file.set_attribute(name, value); });
     const long long rows = n;
     file.write_rows("rank_rows", &rows, 1, 0);
     P.for_each_owned_field([&](const auto& view) {
@@ -289,18 +296,10 @@ inline CheckpointInfo read_checkpoint_info(const std::string& path, MPI_Comm com
   info.parameters = file.string_attribute("parameters");
   auto& st = info.state;
   st.drive_axis = static_cast<int>(file.integer_attribute("drive_axis"));
-  st.completed_columns = file.double_array_attribute("completed_columns");
-  st.steady_times = file.double_array_attribute("steady_times");
-  st.steady_values = file.double_array_attribute("steady_values");
-  st.steady_first_time = file.double_attribute("steady_first_time");
-  st.frame_steps = file.double_array_attribute("frame_steps");
-  st.frame_times = file.double_array_attribute("frame_times");
-  st.max_density_variation = file.double_attribute("max_density_variation");
-  st.max_density_drift = file.double_attribute("max_density_drift");
-  st.particles_inside_grains = file.double_attribute("particles_inside_grains");
-  st.max_grain_penetration = file.double_attribute("max_grain_penetration");
-  st.grain_surface_corrections = file.double_attribute("grain_surface_corrections");
-  st.max_corrected_depth = file.double_attribute("max_corrected_depth");
+  RunState::for_each_attribute(st, [&](const char* name, auto& value) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(value)>, double>) value = file.double_attribute(name);
+    else value = file.double_array_attribute(name);
+  });
   return info;
 }
 

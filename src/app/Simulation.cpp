@@ -181,14 +181,20 @@ bool Simulation<Dim, ExecSpace>::moved_beyond_skin() const {
 }
 
 template <int Dim, class ExecSpace>
-void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
+void Simulation<Dim, ExecSpace>::update_pressure_and_ghosts() {
   update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_);
+  space_.fence();
+  halo_.update(particles_);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
   if (!moved_beyond_skin()) {
-    space_.fence();
-    halo_.update(particles_);
+    update_pressure_and_ghosts();
     return;
   }
   // Positions stay unwrapped between builds so that ghosts and lists remain consistent.
+  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_);
   space_.fence();
   halo_.wrap(particles_);
   halo_.migrate(particles_);
@@ -338,14 +344,9 @@ void Simulation<Dim, ExecSpace>::resume(long long steps, const typename Particle
       KOKKOS_LAMBDA(int i, long long& n) { n += kind(i) == kFluid; }, fluid);
   fluid_count_ = comm_.sum(fluid);
   total_count_ = comm_.sum(static_cast<long long>(particles_.owned));
-  if (rates_valid) {
-    update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_);
-    if (!built_) refresh_neighbourhood();
-    space_.fence();
-    halo_.update(particles_);
-  } else {
-    compute_rates();
-  }
+  // With the saved rates the next step needs nothing else: its mid-point
+  // refresh updates the ghosts (or, after a redistribution, builds them).
+  if (!rates_valid) compute_rates();
   space_.fence();
 }
 
@@ -354,9 +355,7 @@ GridBlock<Dim> Simulation<Dim, ExecSpace>::interpolate_to_grid(const std::vector
                                                               std::vector<double>& values) {
   // Ghosts to the current state without a rebuild, so that writing output
   // never changes when the lists are rebuilt (and so the run's bits).
-  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_);
-  space_.fence();
-  halo_.update(particles_);
+  update_pressure_and_ghosts();
   GridBlock<Dim> block;
   const auto& box = halo_.box();
   for (int d = 0; d < Dim; ++d) {
@@ -398,36 +397,22 @@ Kokkos::View<int*, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>:
 }
 
 template <int Dim, class ExecSpace>
-double Simulation<Dim, ExecSpace>::max_density_variation() const {
+typename Simulation<Dim, ExecSpace>::DensityStatistics Simulation<Dim, ExecSpace>::density_statistics() const {
   const auto rho = particles_.rho;
   const auto kind = particles_.kind;
   const double rho0 = scene_.density;
-  double variation = 0.0;
-  static const std::string label_max_density_variation = "poresph::max_density_variation";
+  double sum = 0.0, variation = 0.0;
+  static const std::string label_density_statistics = "poresph::density_statistics";
   Kokkos::parallel_reduce(
-      label_max_density_variation, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
-      KOKKOS_LAMBDA(int i, double& worst) {
+      label_density_statistics, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      KOKKOS_LAMBDA(int i, double& total, double& worst) {
         if (kind(i) != kFluid) return;
+        total += rho(i);
         const double dev = math::fabs(rho(i) / rho0 - 1.0);
         if (dev > worst) worst = dev;
       },
-      Kokkos::Max<double>(variation));
-  return comm_.max(variation);
-}
-
-template <int Dim, class ExecSpace>
-double Simulation<Dim, ExecSpace>::mean_density_drift() const {
-  const auto rho = particles_.rho;
-  const auto kind = particles_.kind;
-  double sum = 0.0;
-  static const std::string label_mean_density = "poresph::mean_density";
-  Kokkos::parallel_reduce(
-      label_mean_density, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
-      KOKKOS_LAMBDA(int i, double& total) {
-        if (kind(i) == kFluid) total += rho(i);
-      },
-      sum);
-  return comm_.sum(sum) / (fluid_count_ * scene_.density) - 1.0;
+      sum, Kokkos::Max<double>(variation));
+  return {comm_.max(variation), comm_.sum(sum) / (fluid_count_ * rho0) - 1.0};
 }
 
 template <int Dim, class ExecSpace>

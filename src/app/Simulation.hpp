@@ -113,10 +113,13 @@ class Simulation {
   long long fluid_particles() const { return fluid_count_; }
   long long boundary_particles() const { return total_count_ - fluid_count_; }
   const Communicator& communicator() const { return comm_; }
-  // max |rho/rho0 - 1| over fluid particles.
-  double max_density_variation() const;
-  // <rho>/rho0 - 1 over fluid particles: the drift of the mean density.
-  double mean_density_drift() const;
+  // Of the fluid particles, in one pass: max |rho/rho0 - 1|, and
+  // <rho>/rho0 - 1, the drift of the mean density.
+  struct DensityStatistics {
+    double max_variation;
+    double mean_drift;
+  };
+  DensityStatistics density_statistics() const;
   // Darcy's superficial velocity <u> = (1/V_cell) sum over fluid of (m/rho) v.
   Vec<Dim> superficial_velocity() const;
   // Fluid particles whose position lies inside a grain now (0 in a correct
@@ -132,6 +135,8 @@ class Simulation {
   // half the skin since the last build, otherwise the ghosts updated in place.
   void refresh_neighbourhood();
   bool moved_beyond_skin() const;
+  // Pressure of owned particles, then the ghosts' changing fields along the recorded routes.
+  void update_pressure_and_ghosts();
   // Halo, cells and neighbour list for the owned particles where they are now.
   void build_neighbourhood();
   // Stops the run if the step left a particle count change or an unhealthy particle.
