@@ -93,9 +93,11 @@ TYPED_TEST(Conservation, PressureForcesConserveAngularMomentum) {
   cells.build(space, P.x, n, Vec<2>{{0, 0}}, Vec<2>{{1, 1}}, kernel.cutoff);
   NeighbourList<2, Space> neighbours;
   neighbours.build(space, cells, P.x, n, kernel.cutoff);
+  PairSums<Space> sums(RateComponents<2>::count(false));
+  sums.reserve(n);
 
   for (double nu : {0.0, 0.01}) {
-    compute_pair_rates(space, P, neighbours, kernel, FluidProperties{nu, 0.0}, Vec<2>::zero());
+    compute_pair_rates(space, P, neighbours, sums, kernel, FluidProperties{nu, 0.0}, Vec<2>::zero());
     auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt);
     double force[2] = {0, 0}, force_scale = 0, torque = 0, torque_scale = 0;
     for (int i = 0; i < n; ++i) {

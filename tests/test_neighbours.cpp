@@ -102,20 +102,21 @@ void compare_with_brute_force(const double (&side)[Dim], const std::array<bool, 
           if (count(i) < capacity) found(i, count(i)) = j;
           ++count(i);
         });
-        // The list holds the same neighbours in the same order; a half list
-        // (Serial) only those with a larger index: every ghost, and each
-        // pair of owned particles once.
-        int k = list.begin(i), listed = 0;
+        // The half list holds the neighbours with a larger index (every
+        // ghost, and each pair of owned particles once): the owned ones in
+        // the cell search's order, then the ghosts in the reverse order.
+        int owned_k = list.begin(i), ghost_k = list.end(i), listed = 0;
         for (int c = 0; c < count(i) && c < capacity && !list_mismatch(i); ++c) {
-          if (!NeighbourList<Dim, Space>::listed(i, found(i, c))) continue;
-          list_mismatch(i) = k >= list.end(i) || list.neighbour(k) != found(i, c);
-          ++k, ++listed;
+          const int j = found(i, c);
+          if (!NeighbourList<Dim, Space>::listed(i, j)) continue;
+          if (j < n) list_mismatch(i) = owned_k >= list.ghosts_begin(i) || list.neighbour(owned_k++) != j;
+          else list_mismatch(i) = ghost_k <= list.ghosts_begin(i) || list.neighbour(--ghost_k) != j;
+          ++listed;
         }
-        if (NeighbourList<Dim, Space>::kHalf) {
-          int larger = 0;
-          for (int c = 0; c < count(i) && c < capacity; ++c) larger += found(i, c) > i;
-          list_mismatch(i) = list_mismatch(i) || listed != larger;
-        }
+        list_mismatch(i) = list_mismatch(i) || owned_k != list.ghosts_begin(i) || ghost_k != list.ghosts_begin(i);
+        int larger = 0;
+        for (int c = 0; c < count(i) && c < capacity; ++c) larger += found(i, c) > i;
+        list_mismatch(i) = list_mismatch(i) || listed != larger;
         list_mismatch(i) = list_mismatch(i) || list.end(i) - list.begin(i) != listed;
       });
   auto h_mismatch = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), list_mismatch);

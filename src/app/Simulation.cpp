@@ -114,7 +114,8 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
       comm_(comm),
       derived_(derive_parameters(scene)),
       particles_(scene.walls != WallType::None || !scene.grains.empty(), scene.shifting_coefficient > 0),
-      kernel_(derived_.smoothing_length) {
+      kernel_(derived_.smoothing_length),
+      pair_sums_(RateComponents<Dim>::count(scene.shifting_coefficient > 0)) {
   if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
   skin_ = scene.neighbour_skin * derived_.smoothing_length;
   const double support = kernel_.cutoff + skin_;  // ghosts and lists reach this far
@@ -206,6 +207,7 @@ void Simulation<Dim, ExecSpace>::build_neighbourhood() {
   halo_.build(particles_);
   cells_.build(space_, particles_.x, particles_.total(), search_lo_, search_hi_, kernel_.cutoff + skin_);
   neighbours_.build(space_, cells_, particles_.x, particles_.owned, kernel_.cutoff + skin_);
+  pair_sums_.reserve(particles_.owned);
   const auto owned = std::make_pair(0, particles_.owned);
   if (static_cast<int>(x_at_build_.extent(0)) < particles_.owned)
     x_at_build_ = decltype(x_at_build_)("x_at_build", particles_.owned);
@@ -218,7 +220,7 @@ void Simulation<Dim, ExecSpace>::build_neighbourhood() {
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::compute_rates() {
   refresh_neighbourhood();
-  compute_pair_rates(space_, particles_, neighbours_, kernel_, fluid_, body_force_, shifting_);
+  compute_pair_rates(space_, particles_, neighbours_, pair_sums_, kernel_, fluid_, body_force_, shifting_);
   space_.fence();
 }
 
@@ -243,7 +245,7 @@ void Simulation<Dim, ExecSpace>::step() {
   check_step();
   if (scene_.resummation_interval > 0 && steps_ % scene_.resummation_interval == 0) {
     refresh_neighbourhood();
-    resum_fluid_density(space_, particles_, neighbours_, kernel_);
+    resum_fluid_density(space_, particles_, neighbours_, pair_sums_, kernel_);
   }
   space_.fence();
 }

@@ -152,6 +152,7 @@ class Simulation {
   Halo<Dim, ExecSpace> halo_;
   CellList<Dim, ExecSpace> cells_;
   NeighbourList<Dim, ExecSpace> neighbours_;
+  PairSums<ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
   double skin_ = 0.0;
   typename ParticleSet::Vector x_at_build_;  // owned positions when the list was built
   bool built_ = false;

@@ -4,16 +4,14 @@
 // over many steps while no particle has moved more than half the skin, so
 // the pair loop walks a short contiguous list instead of 3^Dim cells.
 //
-// On the Serial backend the list is a half list: a pair of owned particles
-// is listed once (under the smaller index) and the pair loop updates both,
-// which halves the pair work; nothing runs concurrently, so the writes to
-// the neighbour cannot race. Threaded backends list every neighbour of each
-// particle, which then writes only its own rates (no atomics, no scatter).
-// Ghosts are listed in full either way: a ghost's owner evaluates the pair
-// for its own particle.
+// It is a half list: a pair of owned particles is listed once (under the
+// smaller index) and the pair loop adds to both, which halves the pair work;
+// threads add into separate copies of the sums (core/PairSums.hpp). A
+// ghost is listed by every owned particle near it: its owner evaluates the
+// pair for its own particle. Each particle's owned neighbours come first and
+// its ghosts after them, so the pair loop knows which pairs have a second
+// end to update without a test per pair.
 #include <Kokkos_Core.hpp>
-
-#include <type_traits>
 
 #include "core/CellList.hpp"
 #include "core/Vec.hpp"
@@ -25,13 +23,15 @@ class NeighbourList {
  public:
   using MemorySpace = typename ExecSpace::memory_space;
   using IndexView = Kokkos::View<int*, MemorySpace>;
-  static constexpr bool kHalf = std::is_same_v<ExecSpace, Kokkos::Serial>;
 
   template <class PositionView>
   void build(const ExecSpace& space, const CellList<Dim, ExecSpace>& cells, const PositionView& x, int owned,
              double radius) {
-    if (static_cast<int>(offsets_.extent(0)) < owned + 1) offsets_ = IndexView("NeighbourList::offsets", owned + owned / 4 + 1);
-    const auto offsets = offsets_;
+    if (static_cast<int>(offsets_.extent(0)) < owned + 1) {
+      offsets_ = IndexView("NeighbourList::offsets", owned + owned / 4 + 1);
+      ghosts_begin_ = IndexView("NeighbourList::ghosts_begin", owned + owned / 4 + 1);
+    }
+    const auto offsets = offsets_, ghosts_begin = ghosts_begin_;
     const double radius_sq = radius * radius;
     static const std::string label_count = "poresph::NeighbourList::count";
     Kokkos::parallel_for(
@@ -60,39 +60,38 @@ class NeighbourList {
     Kokkos::parallel_for(
         label_fill, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
           const Vec<Dim> xi = row<Dim>(x, i);
-          int k = offsets(i);
+          // Owned neighbours from the front, ghosts from the back; they meet.
+          int front = offsets(i), back = offsets(i + 1);
           cells.for_each_candidate(xi, [&](int j) {
             const Vec<Dim> r = xi - row<Dim>(x, j);
-            if (listed(i, j) && dot(r, r) < radius_sq) indices(k++) = j;
+            if (listed(i, j) && dot(r, r) < radius_sq) {
+              if (j < owned) indices(front++) = j;
+              else indices(--back) = j;
+            }
           });
+          ghosts_begin(i) = front;
         });
     space.fence();
     pairs_ = total;
-    // Neighbours per particle as a full list would have them: a half list
+    // Neighbours per particle as a full list would have them: the half list
     // holds each pair of owned particles once.
-    long long neighbours = total;
-    if constexpr (kHalf) {
-      static const std::string label_owned_pairs = "poresph::NeighbourList::owned_pairs";
-      long long owned_pairs = 0;
-      const auto indices_view = indices_;
-      Kokkos::parallel_reduce(
-          label_owned_pairs, Kokkos::RangePolicy<ExecSpace>(space, 0, total),
-          KOKKOS_LAMBDA(int k, long long& n) { n += indices_view(k) < owned; }, owned_pairs);
-      neighbours += owned_pairs;
-    }
-    neighbours_per_particle_ = owned > 0 ? static_cast<double>(neighbours) / owned : 0.0;
+    static const std::string label_owned_pairs = "poresph::NeighbourList::owned_pairs";
+    long long owned_pairs = 0;
+    Kokkos::parallel_reduce(
+        label_owned_pairs, Kokkos::RangePolicy<ExecSpace>(space, 0, owned),
+        KOKKOS_LAMBDA(int i, long long& n) { n += ghosts_begin(i) - offsets(i); }, owned_pairs);
+    neighbours_per_particle_ = owned > 0 ? static_cast<double>(total + owned_pairs) / owned : 0.0;
   }
 
   // Whether owned particle i lists particle j (within range). Ghosts come
   // after the owned particles, so j > i lists every ghost.
-  KOKKOS_INLINE_FUNCTION static bool listed(int i, int j) {
-    if constexpr (kHalf) return j > i;
-    else return j != i;
-  }
+  KOKKOS_INLINE_FUNCTION static bool listed(int i, int j) { return j > i; }
 
-  // Neighbours of owned particle i are neighbour(k) for k in [begin(i), end(i)).
+  // Neighbours of owned particle i are neighbour(k) for k in [begin(i), end(i)):
+  // owned particles in [begin(i), ghosts_begin(i)), ghosts in [ghosts_begin(i), end(i)).
   // (A plain loop, not a callback: GCC does not inline a per-pair lambda.)
   KOKKOS_INLINE_FUNCTION int begin(int i) const { return offsets_(i); }
+  KOKKOS_INLINE_FUNCTION int ghosts_begin(int i) const { return ghosts_begin_(i); }
   KOKKOS_INLINE_FUNCTION int end(int i) const { return offsets_(i + 1); }
   KOKKOS_INLINE_FUNCTION int neighbour(int k) const { return indices_(k); }
 
@@ -100,7 +99,7 @@ class NeighbourList {
   double neighbours_per_particle() const { return neighbours_per_particle_; }
 
  private:
-  IndexView offsets_, indices_;
+  IndexView offsets_, ghosts_begin_, indices_;
   long long pairs_ = 0;
   double neighbours_per_particle_ = 0;
 };

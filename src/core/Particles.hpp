@@ -38,9 +38,6 @@ struct Particles {
   // Particle shifting (owned slots): displacement towards uniform spacing and
   // the velocity change that carries the field along; empty when not enabled.
   Vector shift, shift_velocity;
-  // Their sums over neighbours (owned slots): grad C and grad v (row-major, d v_i / d x_j).
-  Vector grad_concentration;
-  Kokkos::View<double* [Dim * Dim], MemorySpace> grad_velocity;
 
   int owned = 0;
   int ghosts = 0;
@@ -93,7 +90,6 @@ struct Particles {
     if (has_surfaces) { grow(wall_vector, "wall_vector"); grow(wall_scalar, "wall_scalar"); }
     if (has_shifting) {
       grow(shift, "shift"); grow(shift_velocity, "shift_velocity");
-      grow(grad_concentration, "grad_concentration"); grow(grad_velocity, "grad_velocity");
     }
   }
 };

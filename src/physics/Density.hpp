@@ -5,6 +5,7 @@
 #include "core/NeighbourList.hpp"
 #include "core/Kernel.hpp"
 #include "core/Math.hpp"
+#include "core/PairSums.hpp"
 #include "core/Particles.hpp"
 #include "physics/PairTerms.hpp"
 
@@ -26,38 +27,44 @@ void update_pressure(const ExecSpace& space, const Particles<Dim, typename ExecS
 
 // rho_a = sum_b m_b W_ab (self included) for fluid particles. Boundary
 // particles keep their continuity density: the solid beyond their 3h shell
-// holds no particles, so a sum would be deficient there.
+// holds no particles, so a sum would be deficient there. The half list's
+// pairs add to both ends through `sums` (component 0), as in the pair loop.
 template <int Dim, class ExecSpace>
 void resum_fluid_density(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                         const NeighbourList<Dim, ExecSpace>& neighbours, const QuinticKernel<Dim>& kernel) {
+                         const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                         const QuinticKernel<Dim>& kernel) {
   const auto x = P.x, m = P.m, rho = P.rho;
   const auto kind = P.kind;
-  const int owned = P.owned;
-  // The sums start from the particle's own term (the list leaves it out)
-  // and, with a half list, gather each pair from both ends.
-  static const std::string label_self = "poresph::resum_fluid_density::self";
-  Kokkos::parallel_for(
-      label_self, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int a) {
-        if (kind(a) == kFluid) rho(a) = m(a) * kernel.value(0.0);
-      });
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
   static const std::string label_resum_fluid_density = "poresph::resum_fluid_density";
   Kokkos::parallel_for(
-      label_resum_fluid_density, Kokkos::RangePolicy<ExecSpace>(space, 0, owned),
-      KOKKOS_LAMBDA(int a) {
-        const bool a_is_fluid = kind(a) == kFluid;
+      label_resum_fluid_density, policy, KOKKOS_LAMBDA(int a) {
         const Vec<Dim> x_a = row<Dim>(x, a);
+        const double m_a = m(a);
+        const int copy = sums.acquire();
         double sum = 0.0;
-        for (int k = neighbours.begin(a); k < neighbours.end(a); ++k) {
+        const int ghosts_begin = neighbours.ghosts_begin(a), end = neighbours.end(a);
+        // Beyond 3h (the list's skin) the kernel is exactly zero: no test needed.
+        for (int k = neighbours.begin(a); k < ghosts_begin; ++k) {
           const int b = neighbours.neighbour(k);
           const Vec<Dim> r_ab = x_a - row<Dim>(x, b);
-          const double r_sq = dot(r_ab, r_ab);
-          if (r_sq >= kernel.cutoff_sq) continue;
-          const double w = kernel.value(math::sqrt(r_sq));
+          const double w = kernel.value(math::sqrt(dot(r_ab, r_ab)));
           sum += m(b) * w;
-          if constexpr (NeighbourList<Dim, ExecSpace>::kHalf)
-            if (b < owned && kind(b) == kFluid) rho(b) += m(a) * w;
+          sums.add(copy, b, 0, m_a * w);
         }
-        if (a_is_fluid) rho(a) += sum;
+        for (int k = ghosts_begin; k < end; ++k) {
+          const int b = neighbours.neighbour(k);
+          const Vec<Dim> r_ab = x_a - row<Dim>(x, b);
+          sum += m(b) * kernel.value(math::sqrt(dot(r_ab, r_ab)));
+        }
+        sums.add(copy, a, 0, sum);
+        sums.release(copy);
+      });
+  static const std::string label_take = "poresph::resum_fluid_density::take";
+  Kokkos::parallel_for(
+      label_take, policy, KOKKOS_LAMBDA(int a) {
+        const double neighbours_sum = sums.take(a, 0);  // taken for every particle: the copies return to zero
+        if (kind(a) == kFluid) rho(a) = m(a) * kernel.value(0.0) + neighbours_sum;
       });
 }
 
