@@ -1,18 +1,22 @@
 #!/usr/bin/python3
 """Speed against error: the relative error of k against the wall time it
 took, for the square arrays of solid fraction 0.2 and 0.5 (reference:
-Sangani & Acrivos 1982) and problem III (reference: the finest PoreSPH run,
-dx = 0.0025 L), at several resolutions; at the middle resolution also with
-another delta of the speed-of-sound rule and with density re-summation.
-Every run stops by itself when k is steady.
+Sangani & Acrivos 1982) and problem III (reference: the finite-element
+value of perf/stokes_reference.py, or else the finest PoreSPH run), at
+several resolutions; at the middle resolution also with another delta of
+the speed-of-sound rule and with density re-summation. Every run stops by
+itself when k is steady.
 
     perf/speed_vs_error.py [--build build] [--out build/speed-vs-error]
-        --problem3-runs DIR_dx0.0005 DIR_dx0.00025 [--square-arrays-csv build/square-arrays/square_arrays.csv]
+        [--problem3-runs DIR...] [--problem3-reference K_M2]
+        [--square-arrays-csv build/square-arrays/square_arrays.csv]
 
-Problem III at dx = 0.005 L and 0.0025 L takes 7 and about 60 minutes on two
-ranks; those runs are made once (input/problem3/problem3.xml with
+Problem III at dx = 0.005 L and 0.0025 L takes minutes to hours on two
+ranks; such runs are made once (input/problem3/problem3.xml with
 Discretization/Particle Spacing set) and their output directories given
-here; the coarser ones are run by the script. The finest is the reference.
+with --problem3-runs (the spacing is read from their parameters_used.xml);
+the script runs dx = 0.02 and 0.01 L itself when problem III has a
+reference.
 Writes speed_vs_error.csv into --out and docs/figures/speed_vs_error.png,
 and prints the table for docs/speed_vs_error.md, with what the steady-state
 stop saved against running to the scene's End Time.
@@ -22,6 +26,7 @@ import csv
 import json
 import os
 import sys
+import xml.etree.ElementTree as ElementTree
 
 import matplotlib
 
@@ -49,8 +54,10 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
     parser.add_argument("--out", default=os.path.join(ROOT, "build", "speed-vs-error"))
-    parser.add_argument("--problem3-runs", nargs=2, default=None, metavar=("DX_0.005L", "DX_0.0025L"),
-                        help="without them problem III is left out")
+    parser.add_argument("--problem3-runs", nargs="+", default=[], metavar="DIR",
+                        help="output directories of earlier problem III runs")
+    parser.add_argument("--problem3-reference", type=float, default=None, metavar="K_M2",
+                        help="kxx of problem III (m^2) to measure against; default: the finest --problem3-runs run")
     parser.add_argument("--square-arrays-csv", default=None,
                         help="take the default runs of c = 0.2 and 0.5 from perf/square_arrays.py's CSV "
                              "instead of running them again")
@@ -89,24 +96,32 @@ def main():
                 print(rows[-1], file=sys.stderr, flush=True)
                 save()
 
-    # Problem III: the finest run is the reference.
+    # Problem III: the finite-element reference, or else the finest run.
     def load(directory):
         with open(os.path.join(directory, "summary.json")) as f:
             return json.load(f)
 
-    if args.problem3_runs is None:
-        args.problem3_runs = []
-        print("problem III left out: no --problem3-runs", file=sys.stderr)
-    finest = load(args.problem3_runs[1]) if args.problem3_runs else None
-    reference = finest["permeability"]["kxx"] / L**2 if finest else None
-    for dx in [0.002, 0.001] if finest else []:
+    def spacing(directory):
+        for parameter in ElementTree.parse(os.path.join(directory, "parameters_used.xml")).iter("Parameter"):
+            if parameter.get("name") == "Particle Spacing":
+                return float(parameter.get("value"))
+        sys.exit(f"{directory}/parameters_used.xml has no Particle Spacing")
+
+    given = sorted(((spacing(d), load(d)) for d in args.problem3_runs), key=lambda pair: pair[0])
+    reference = args.problem3_reference / L**2 if args.problem3_reference else None
+    reference_run = None
+    if reference is None and given:
+        reference_run = given[0][1]
+        reference = reference_run["permeability"]["kxx"] / L**2
+    if reference is None:
+        print("problem III left out: no --problem3-reference and no --problem3-runs", file=sys.stderr)
+    for dx in [0.002, 0.001] if reference else []:
         out = os.path.join(args.out, f"problem3-dx{dx}")
         s = run_poresph(args.build, "problem3/problem3.xml", out, [f"Discretization/Particle Spacing={dx!r}"])
         rows.append(row("problem III", "default", dx, s, reference, 1))
         print(rows[-1], file=sys.stderr, flush=True)
-    for directory, dx in zip(args.problem3_runs, [0.0005, 0.00025]):
-        s = load(directory)
-        rows.append(row("problem III", "default", dx, s, reference if dx != 0.00025 else None, s["ranks"]))
+    for dx, s in given:
+        rows.append(row("problem III", "default", dx, s, None if s is reference_run else reference, s["ranks"]))
     save()
 
     # The plot: |error| against wall time, one curve per scene (default runs), variants as markers.
@@ -141,7 +156,8 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         err = f"{100 * r['relative_error']:+.2f}" if r["relative_error"] is not None else "(reference)"
-        print(f"| {r['scene']} | {r['variant']} | {r['dx_over_L']:g} | {r['k_over_L2']:.5g} | {r['reference']:.5g} | "
+        ref = f"{r['reference']:.5g}" if r["reference"] is not None else "-"
+        print(f"| {r['scene']} | {r['variant']} | {r['dx_over_L']:g} | {r['k_over_L2']:.5g} | {ref} | "
               f"{err} | {r['steps']} | {r['wall_seconds']:.0f} | {r['ranks']} | {r['wall_seconds_to_end_time']:.0f} | "
               f"{r['wall_seconds_to_end_time'] / r['wall_seconds']:.1f}x |")
 

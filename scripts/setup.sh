@@ -6,6 +6,7 @@
 #   scripts/setup.sh run  [extra poresph arguments]
 #   scripts/setup.sh test [extra ctest arguments]
 #   scripts/setup.sh build
+#   scripts/setup.sh tools   # also the reference tools (FreeFem++ for perf/stokes_reference.py); `test` installs them too
 #
 # Environment: BUILD_DIR (default build), CMAKE_ARGS (extra configure flags).
 set -euo pipefail
@@ -26,6 +27,9 @@ packages=(
   libptscotch-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libgtest-dev
   python3 python3-numpy python3-matplotlib python3-h5py
 )
+
+# Not needed to build; their tests run where they are installed (`test`, `tools`).
+tool_packages=(freefem++)
 
 install_missing() {
   local missing=()
@@ -50,6 +54,7 @@ configure_and_build() {
   cmake --build "$build_dir" -j "${JOBS:-2}"
 }
 
+if [ "$mode" = tools ] || [ "$mode" = test ]; then packages+=("${tool_packages[@]}"); fi
 install_missing
 configure_and_build
 
@@ -60,6 +65,6 @@ export OMPI_MCA_rmaps_base_oversubscribe=1
 case "$mode" in
   run)   exec "$build_dir/poresph" "$here/input/poiseuille.xml" --output "$build_dir/run-poiseuille" "$@" ;;
   test)  cd "$build_dir" && exec ctest --output-on-failure -j "${JOBS:-2}" "$@" ;;
-  build) ;;
-  *) echo "usage: $0 run|test|build" >&2; exit 2 ;;
+  build|tools) ;;
+  *) echo "usage: $0 run|test|build|tools" >&2; exit 2 ;;
 esac
