@@ -201,6 +201,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     }
   }
   Vec<Dim> superficial_velocity{};  // at the last check
+  bool k_measured = false;           // by a check of this run
   auto check = [&]() {
     const auto density = sim.density_statistics();
     report.max_density_variation = std::max(report.max_density_variation, density.max_variation);
@@ -212,9 +213,11 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     if (!measure_k) return;
     const Vec<Dim> u = superficial_velocity = sim.superficial_velocity();
     steady = detector.add(sim.time(), permeability(u, axis));
+    k_measured = true;
     history << sim.steps() << ',' << sim.time();
     for (int i = 0; i < Dim; ++i) history << ',' << permeability(u, i);
     history << ',' << detector.relative_change() << '\n';
+    history.flush();  // a long run's history is readable while it runs, and survives a kill
   };
 
   // Field files, and checkpoints with what a restart needs to go on.
@@ -264,6 +267,43 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   constexpr long long kSignalCheckInterval = 10;
   const long long first_step = sim.steps();
   const auto loop_start = Clock::now();
+  // What summary.json says of this run, however it ends: at the end, at a
+  // steady k, by a signal or by a failure (k as of the last check).
+  auto record = [&](const std::string& stopped_by) {
+    const auto& derived = sim.derived();
+    report.stopped_by = stopped_by;
+    report.dimension = Dim;
+    report.fluid_particles = sim.fluid_particles();
+    report.boundary_particles = sim.boundary_particles();
+    report.steps += sim.steps();
+    report.timed_steps += sim.steps() - first_step;
+    report.simulated_time += sim.time();
+    report.time_step = dt;
+    report.smoothing_length = derived.smoothing_length;
+    report.sound_speed = derived.sound_speed;
+    report.wall_seconds += seconds_since(loop_start);
+    report.ranks = sim.communicator().size();
+    report.threads = ExecSpace::concurrency();
+    report.backend = backend_name<ExecSpace>();
+    report.neighbour_rebuilds += sim.neighbour_rebuilds();
+    report.neighbours_per_particle = sim.neighbours_per_particle();
+    report.channel = report.channel || channel;
+    const auto corrected = sim.grain_surface_corrections();
+    report.grain_surface_corrections += corrected.particles;
+    report.max_corrected_depth = std::max(report.max_corrected_depth, corrected.max_depth / scene.particle_spacing);
+    if (measure_k && k_measured) {
+      const Vec<Dim>& u = superficial_velocity;
+      const bool first = !report.has_permeability;
+      report.has_permeability = true;
+      report.driven[axis] = true;
+      for (int i = 0; i < Dim; ++i) {
+        report.permeability[i][axis] = permeability(u, i);
+        if (first) report.superficial_velocity[i] = u[i];
+      }
+      report.steady = (first || report.steady) && steady;
+      report.steady_relative_change = std::max(report.steady_relative_change, detector.relative_change());
+    }
+  };
   try {
     while (sim.steps() < last_step) {
       if (sim.steps() + 1 == options.inject_nan_at_step) sim.poison_next_step();
@@ -285,9 +325,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
         const int signal_number = sim.communicator().max(static_cast<int>(stop_signal));
         progress.finish();
         checkpoint(true);
-        report.stopped_by = "signal";
-        report.steps = sim.steps();
-        report.simulated_time = sim.time();
+        record("signal");
         throw RunInterrupted("stopped by " + std::string(signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
                                  " at step " + std::to_string(sim.steps()) + ", t = " + std::to_string(sim.time()) +
                                  " s; the state is in " + checkpoint_path,
@@ -299,55 +337,17 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     progress.finish();
     sim.rewind_failed_step();
     checkpoint(false);
-    report.stopped_by = "failure";
-    report.steps = sim.steps();
-    report.simulated_time = sim.time();
+    record("failure");
     report.failure = std::string(failure.what()) + "; the last good state (step " + std::to_string(sim.steps()) +
                      ") is in " + checkpoint_path;
     throw SimulationFailure(report.failure, failure.step, failure.time);
   }
-  const double loop_seconds = seconds_since(loop_start);
   progress.finish();
   check();
   if (channel) sample_profile(sim.time());
   if (scene.write_final_particles) write_particles_csv(sim, options.output_dir + "/particles" + suffix + ".csv");
   if (write_fields && fields.frame_steps().back() != sim.steps()) fields.write(sim);
-
-  const auto& derived = sim.derived();
-  report.dimension = Dim;
-  report.fluid_particles = sim.fluid_particles();
-  report.boundary_particles = sim.boundary_particles();
-  report.steps += sim.steps();
-  report.timed_steps += sim.steps() - first_step;
-  report.simulated_time += sim.time();
-  report.stopped_by = stop_when_steady && steady ? "steady_state"
-                      : sim.steps() >= steps_to_end ? "end_time"
-                                                    : "max_steps";
-  report.time_step = dt;
-  report.smoothing_length = derived.smoothing_length;
-  report.sound_speed = derived.sound_speed;
-  report.wall_seconds += loop_seconds;
-  report.ranks = sim.communicator().size();
-  report.threads = ExecSpace::concurrency();
-  report.backend = backend_name<ExecSpace>();
-  report.neighbour_rebuilds += sim.neighbour_rebuilds();
-  report.neighbours_per_particle = sim.neighbours_per_particle();
-  report.channel = report.channel || channel;
-  const auto corrected = sim.grain_surface_corrections();
-  report.grain_surface_corrections += corrected.particles;
-  report.max_corrected_depth = std::max(report.max_corrected_depth, corrected.max_depth / scene.particle_spacing);
-  if (measure_k) {  // the final check() above measured the end state
-    const Vec<Dim>& u = superficial_velocity;
-    const bool first = !report.has_permeability;
-    report.has_permeability = true;
-    report.driven[axis] = true;
-    for (int i = 0; i < Dim; ++i) {
-      report.permeability[i][axis] = permeability(u, i);
-      if (first) report.superficial_velocity[i] = u[i];
-    }
-    report.steady = (first || report.steady) && steady;
-    report.steady_relative_change = std::max(report.steady_relative_change, detector.relative_change());
-  }
+  record(stop_when_steady && steady ? "steady_state" : sim.steps() >= steps_to_end ? "end_time" : "max_steps");
   if (scene.final_checkpoint) checkpoint(true);
 }
 
@@ -387,6 +387,16 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
     pending = nullptr;
   };
   auto write_summary = [&]() {
+    report.particle_steps_per_second =
+        report.wall_seconds > 0
+            ? (report.fluid_particles + report.boundary_particles) * report.timed_steps / report.wall_seconds
+            : 0.0;
+    if (report.has_grains && report.has_permeability) {
+      double speed = 0, diameter = 0;
+      for (int d = 0; d < Dim; ++d) speed += report.superficial_velocity[d] * report.superficial_velocity[d];
+      for (const auto& g : scene.grains) diameter += 2 * g.radius / scene.grains.size();
+      report.reynolds_number = std::sqrt(speed) / report.porosity * diameter / scene.kinematic_viscosity;
+    }
     if (Communicator().rank() == 0)
       write_file_atomically(options.output_dir + "/summary.json", report.to_json().str() + "\n");
   };
@@ -406,16 +416,6 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   } catch (const RunInterrupted&) {
     write_summary();
     throw;
-  }
-  report.particle_steps_per_second =
-      report.wall_seconds > 0
-          ? (report.fluid_particles + report.boundary_particles) * report.timed_steps / report.wall_seconds
-          : 0.0;
-  if (report.has_grains && report.has_permeability) {
-    double speed = 0, diameter = 0;
-    for (int d = 0; d < Dim; ++d) speed += report.superficial_velocity[d] * report.superficial_velocity[d];
-    for (const auto& g : scene.grains) diameter += 2 * g.radius / scene.grains.size();
-    report.reynolds_number = std::sqrt(speed) / report.porosity * diameter / scene.kinematic_viscosity;
   }
   write_summary();
   return report;
