@@ -3,6 +3,7 @@
 
 #include <Teuchos_Array.hpp>
 
+#include "app/Simulation.hpp"
 #include "geometry/Lattice.hpp"
 #include "io/Parameters.hpp"
 
@@ -49,6 +50,38 @@ TEST(Parameters, MinimalSceneValidatesAndGetsDefaults) {
   EXPECT_TRUE(scene.periodic[0] && scene.periodic[1]);
   EXPECT_EQ(scene.walls, WallType::None);
   EXPECT_EQ(list.sublist("Discretization").get<double>("Smoothing Length Ratio"), 1.0);
+}
+
+// Fluid/Raise Sound Speed: where the viscous limit sets dt, c rises until the
+// acoustic limit meets it (same dt, stiffer fluid); where the acoustic limit
+// sets dt already, nothing changes; a given Sound Speed excludes it.
+TEST(Parameters, RaisedSoundSpeedKeepsTheTimeStep) {
+  auto derived_with = [](double nu, bool raise) {
+    auto list = minimal_scene();
+    list.sublist("Fluid").set("Kinematic Viscosity", nu);
+    list.sublist("Fluid").set("Raise Sound Speed", raise);
+    validate_parameters(list);
+    return derive_parameters(scene_from_parameters(list));
+  };
+  const auto plain = derived_with(1e-2, false), raised = derived_with(1e-2, true);
+  ASSERT_LT(plain.limits.viscous, plain.limits.acoustic);  // the case the option is for
+  EXPECT_GT(raised.sound_speed, 1.2 * plain.sound_speed);
+  EXPECT_NEAR(raised.time_step, plain.time_step, 1e-12 * plain.time_step);
+  EXPECT_NEAR(raised.limits.acoustic, raised.limits.viscous, 1e-12 * raised.limits.viscous);
+
+  const auto acoustic_plain = derived_with(1e-6, false), acoustic_raised = derived_with(1e-6, true);
+  ASSERT_LT(acoustic_plain.limits.acoustic, acoustic_plain.limits.smallest() * (1 + 1e-12));
+  EXPECT_EQ(acoustic_raised.sound_speed, acoustic_plain.sound_speed);
+  EXPECT_EQ(acoustic_raised.time_step, acoustic_plain.time_step);
+
+  auto list = minimal_scene();
+  list.sublist("Fluid").set("Raise Sound Speed", true);
+  list.sublist("Fluid").set("Sound Speed", 1.0);
+  const auto message = error_of([&] {
+    validate_parameters(list);
+    scene_from_parameters(list);
+  });
+  EXPECT_NE(message.find("Raise Sound Speed"), std::string::npos) << message;
 }
 
 TEST(Parameters, UnknownNameIsNamed) {

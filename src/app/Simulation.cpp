@@ -47,6 +47,13 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
           "cannot choose a speed of sound: the scene has no flow scale (no body force, no moving wall, no "
           "Fluid/Velocity Scale); set Fluid/Velocity Scale or Fluid/Sound Speed");
     p.sound_speed = std::sqrt(c_sq);
+    if (scene.raise_sound_speed) {
+      // The acoustic limit 0.25 h / c need not be smaller than the others:
+      // up to there a larger c costs no steps and makes the fluid stiffer.
+      const TimeStepLimits others = time_step_limits(p.smoothing_length, 0.0, nu, force_norm);
+      const double other_limit = std::min(others.viscous, others.force);
+      if (std::isfinite(other_limit)) p.sound_speed = std::max(p.sound_speed, 0.25 * p.smoothing_length / other_limit);
+    }
   }
   p.limits = time_step_limits(p.smoothing_length, p.sound_speed, nu, force_norm);
   p.time_step = scene.time_step > 0 ? scene.time_step : p.limits.smallest();

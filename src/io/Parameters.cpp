@@ -63,6 +63,10 @@ RCP<ParameterList> make_valid_parameters() {
           real_in(0.0, kHuge));
     s.set("Density Variation", 0.01, "delta, the density variation the sound-speed rule aims at.",
           real_in(1e-6, 0.5));
+    s.set("Raise Sound Speed", false,
+          "Raise c from the delta rule to the largest value the viscous and body-force time-step limits "
+          "allow (0.25 h / c = the smaller of them): the same time step, a stiffer fluid whose pressure "
+          "waves settle sooner. Pays where the viscous limit sets dt (fine spacings). Not with Sound Speed.");
     s.set("Velocity Scale", 0.0,
           "V for the sound-speed rule (m/s). 0: the larger of the wall speeds and |F| L^2/(8 nu).",
           real_in(0.0, kHuge));
@@ -360,6 +364,9 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   for (int d = 0; d < static_cast<int>(force.size()); ++d) scene.body_force[d] = force[d];
   scene.sound_speed = fluid.get<double>("Sound Speed");
   scene.density_variation = fluid.get<double>("Density Variation");
+  scene.raise_sound_speed = fluid.get<bool>("Raise Sound Speed");
+  if (scene.raise_sound_speed && fluid.get<double>("Sound Speed") > 0)
+    fail("Fluid/Raise Sound Speed and Fluid/Sound Speed exclude each other: the sound speed is either given or chosen");
   scene.velocity_scale = fluid.get<double>("Velocity Scale");
   scene.length_scale = fluid.get<double>("Length Scale");
   scene.background_pressure = fluid.get<double>("Background Pressure");

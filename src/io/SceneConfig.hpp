@@ -29,6 +29,7 @@ struct SceneConfig {
   std::array<double, 3> body_force{};
   double sound_speed = 0.0;  // 0: from the scales below
   double density_variation = 0.01;
+  bool raise_sound_speed = false;  // c up to what the other time-step limits allow
   double velocity_scale = 0.0;  // 0: estimated (see Parameters.cpp)
   double length_scale = 0.0;    // 0: largest cell side
   double background_pressure = 0.0;  // fraction of c^2 rho0 the momentum equation keeps (1: p = c^2 rho)
