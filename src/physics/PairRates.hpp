@@ -92,7 +92,7 @@ struct PairRates {
   }
 
   KOKKOS_FORCEINLINE_FUNCTION SharedPairTerms<Dim> shared_terms(const PairEnd<Dim>& a, const PairEnd<Dim>& b,
-                                                           double r_sq) const {
+                                                                double r_sq) const {
     SharedPairTerms<Dim> t;
     t.r = a.x - b.x;
     t.v = a.v - b.v;
@@ -112,7 +112,7 @@ struct PairRates {
   // at separation r, velocity difference v: v itself, or for a boundary
   // particle its no-slip extrapolation.
   KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> viscous_velocity(const PairEnd<Dim>& other, const Vec<Dim>& v,
-                                                   const Vec<Dim>& r) const {
+                                                        const Vec<Dim>& r) const {
     if constexpr (WithSurfaces) {
       if (other.kind != kFluid) {
         const SurfaceDistances<Dim> s = surface_distances<Dim>(other.kind, row<Dim>(P.wall_vector, other.index),
@@ -127,7 +127,7 @@ struct PairRates {
   // Adds to `sum` what `self` gains from `other`; sign = +1 when self is the
   // pair's a, -1 when it is b (r and v change sign, the continuity does not).
   KOKKOS_FORCEINLINE_FUNCTION void add(PairRateSums<Dim>& sum, const PairEnd<Dim>& self, const PairEnd<Dim>& other,
-                                  const SharedPairTerms<Dim>& t, double sign) const {
+                                       const SharedPairTerms<Dim>& t, double sign) const {
     sum.drho += other.m * t.continuity;
     if (WithSurfaces && self.kind != kFluid) return;  // boundary particles move as their surface prescribes
     const Vec<Dim> r = sign * t.r, v = sign * t.v;
@@ -146,7 +146,8 @@ struct PairRates {
     if constexpr (WithShifting) {
       for (int d = 0; d < Dim; ++d) sums.add(copy, i, Components::grad_concentration + d, sum.grad_concentration[d]);
       for (int d = 0; d < Dim; ++d)
-        for (int e = 0; e < Dim; ++e) sums.add(copy, i, Components::grad_velocity + d * Dim + e, sum.grad_velocity[d][e]);
+        for (int e = 0; e < Dim; ++e)
+          sums.add(copy, i, Components::grad_velocity + d * Dim + e, sum.grad_velocity[d][e]);
     }
   }
 
@@ -239,11 +240,14 @@ void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename Ex
     Kokkos::parallel_for(label_surfaces_shifting, policy,
                          PairRates<Dim, ExecSpace, true, true>{P, neighbours, sums, kernel, fluid});
   else if (P.has_surfaces)
-    Kokkos::parallel_for(label_surfaces, policy, PairRates<Dim, ExecSpace, true, false>{P, neighbours, sums, kernel, fluid});
+    Kokkos::parallel_for(label_surfaces, policy,
+                         PairRates<Dim, ExecSpace, true, false>{P, neighbours, sums, kernel, fluid});
   else if (shift)
-    Kokkos::parallel_for(label_shifting, policy, PairRates<Dim, ExecSpace, false, true>{P, neighbours, sums, kernel, fluid});
+    Kokkos::parallel_for(label_shifting, policy,
+                         PairRates<Dim, ExecSpace, false, true>{P, neighbours, sums, kernel, fluid});
   else
-    Kokkos::parallel_for(label_plain, policy, PairRates<Dim, ExecSpace, false, false>{P, neighbours, sums, kernel, fluid});
+    Kokkos::parallel_for(label_plain, policy,
+                         PairRates<Dim, ExecSpace, false, false>{P, neighbours, sums, kernel, fluid});
   static const std::string label_finish = "poresph::FinishRates";
   if (shift)
     Kokkos::parallel_for(label_finish, policy, FinishRates<Dim, ExecSpace, true>{P, sums, body_force, shifting});
