@@ -269,7 +269,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   const auto loop_start = Clock::now();
   // What summary.json says of this run, however it ends: at the end, at a
   // steady k, by a signal or by a failure (k as of the last check).
-  auto record = [&](const std::string& stopped_by) {
+  auto record = [&](const std::string& stopped_by, double loop_seconds) {
     const auto& derived = sim.derived();
     report.stopped_by = stopped_by;
     report.dimension = Dim;
@@ -281,7 +281,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     report.time_step = dt;
     report.smoothing_length = derived.smoothing_length;
     report.sound_speed = derived.sound_speed;
-    report.wall_seconds += seconds_since(loop_start);
+    report.wall_seconds += loop_seconds;  // the time loop only
     report.ranks = sim.communicator().size();
     report.threads = ExecSpace::concurrency();
     report.backend = backend_name<ExecSpace>();
@@ -325,7 +325,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
         const int signal_number = sim.communicator().max(static_cast<int>(stop_signal));
         progress.finish();
         checkpoint(true);
-        record("signal");
+        record("signal", seconds_since(loop_start));
         throw RunInterrupted("stopped by " + std::string(signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
                                  " at step " + std::to_string(sim.steps()) + ", t = " + std::to_string(sim.time()) +
                                  " s; the state is in " + checkpoint_path,
@@ -337,17 +337,19 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     progress.finish();
     sim.rewind_failed_step();
     checkpoint(false);
-    record("failure");
+    record("failure", seconds_since(loop_start));
     report.failure = std::string(failure.what()) + "; the last good state (step " + std::to_string(sim.steps()) +
                      ") is in " + checkpoint_path;
     throw SimulationFailure(report.failure, failure.step, failure.time);
   }
+  const double loop_seconds = seconds_since(loop_start);
   progress.finish();
   check();
   if (channel) sample_profile(sim.time());
   if (scene.write_final_particles) write_particles_csv(sim, options.output_dir + "/particles" + suffix + ".csv");
   if (write_fields && fields.frame_steps().back() != sim.steps()) fields.write(sim);
-  record(stop_when_steady && steady ? "steady_state" : sim.steps() >= steps_to_end ? "end_time" : "max_steps");
+  record(stop_when_steady && steady ? "steady_state" : sim.steps() >= steps_to_end ? "end_time" : "max_steps",
+         loop_seconds);
   if (scene.final_checkpoint) checkpoint(true);
 }
 
