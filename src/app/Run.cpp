@@ -12,6 +12,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include "app/Output.hpp"
 #include "app/Simulation.hpp"
@@ -220,6 +222,14 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     history.flush();  // a long run's history is readable while it runs, and survives a kill
   };
 
+  // Fluid put back on grain surfaces: the report's count from earlier runs
+  // of the scene plus this process's, and the deepest (in spacings).
+  auto corrections_so_far = [&]() {
+    const auto corrected = sim.grain_surface_corrections();
+    return std::make_pair(report.grain_surface_corrections + corrected.particles,
+                          std::max(report.max_corrected_depth, corrected.max_depth / scene.particle_spacing));
+  };
+
   // Field files, and checkpoints with what a restart needs to go on.
   const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
   FieldWriter<Dim, ExecSpace> fields(scene, options.output_dir, suffix);
@@ -249,9 +259,9 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     state.max_density_drift = report.max_density_drift;
     state.particles_inside_grains = static_cast<double>(report.particles_inside_grains);
     state.max_grain_penetration = report.max_grain_penetration;
-    const auto corrected = sim.grain_surface_corrections();  // since this process started
-    state.grain_surface_corrections = static_cast<double>(report.grain_surface_corrections + corrected.particles);
-    state.max_corrected_depth = std::max(report.max_corrected_depth, corrected.max_depth / scene.particle_spacing);
+    const auto [corrections, deepest] = corrections_so_far();
+    state.grain_surface_corrections = static_cast<double>(corrections);
+    state.max_corrected_depth = deepest;
     write_checkpoint(sim, checkpoint_path, state, options.parameters_xml, rates_valid);
   };
 
@@ -288,9 +298,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     report.neighbour_rebuilds += sim.neighbour_rebuilds();
     report.neighbours_per_particle = sim.neighbours_per_particle();
     report.channel = report.channel || channel;
-    const auto corrected = sim.grain_surface_corrections();
-    report.grain_surface_corrections += corrected.particles;
-    report.max_corrected_depth = std::max(report.max_corrected_depth, corrected.max_depth / scene.particle_spacing);
+    std::tie(report.grain_surface_corrections, report.max_corrected_depth) = corrections_so_far();
     if (measure_k && k_measured) {
       const Vec<Dim>& u = superficial_velocity;
       const bool first = !report.has_permeability;

@@ -10,8 +10,6 @@
 // step; take() leaves each copy zero for the next loop.
 #include <Kokkos_Core.hpp>
 
-#include <string>
-
 namespace poresph {
 
 template <class ExecSpace>
@@ -32,8 +30,6 @@ class PairSums {
     copies_ = token_.size();
     values_ = Kokkos::View<double***, Kokkos::LayoutRight, MemorySpace>("PairSums", copies_, capacity_, components_);
   }
-
-  int components() const { return components_; }
 
   // Inside a kernel: acquire a copy per particle visited, add, release.
   KOKKOS_INLINE_FUNCTION int acquire() const { return token_.acquire(); }

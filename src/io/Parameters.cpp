@@ -365,7 +365,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.sound_speed = fluid.get<double>("Sound Speed");
   scene.density_variation = fluid.get<double>("Density Variation");
   scene.raise_sound_speed = fluid.get<bool>("Raise Sound Speed");
-  if (scene.raise_sound_speed && fluid.get<double>("Sound Speed") > 0)
+  if (scene.raise_sound_speed && scene.sound_speed > 0)
     fail("Fluid/Raise Sound Speed and Fluid/Sound Speed exclude each other: the sound speed is either given or chosen");
   scene.velocity_scale = fluid.get<double>("Velocity Scale");
   scene.length_scale = fluid.get<double>("Length Scale");

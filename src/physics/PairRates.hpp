@@ -91,10 +91,11 @@ struct PairRates {
     return {row<Dim>(P.x, i), row<Dim>(P.v, i), P.m(i), P.inverse_density(i), P.pressure_term(i), kind, i};
   }
 
+  // r = x_a - x_b and r_sq = |r|^2, as the cutoff test computed them.
   KOKKOS_FORCEINLINE_FUNCTION SharedPairTerms<Dim> shared_terms(const PairEnd<Dim>& a, const PairEnd<Dim>& b,
-                                                                double r_sq) const {
+                                                                const Vec<Dim>& r, double r_sq) const {
     SharedPairTerms<Dim> t;
-    t.r = a.x - b.x;
+    t.r = r;
     t.v = a.v - b.v;
     t.F = kernel.derivative_over_r(math::sqrt(r_sq));
     t.continuity = continuity_rate(1.0, t.v, t.r, t.F);
@@ -103,9 +104,8 @@ struct PairRates {
     return t;
   }
 
-  KOKKOS_FORCEINLINE_FUNCTION double distance_sq(const PairEnd<Dim>& a, int b) const {
-    const Vec<Dim> r = a.x - row<Dim>(P.x, b);
-    return dot(r, r);
+  KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> separation(const PairEnd<Dim>& a, int b) const {
+    return a.x - row<Dim>(P.x, b);
   }
 
   // The viscous velocity difference fluid particle `self` sees for `other`
@@ -160,10 +160,11 @@ struct PairRates {
     // before anything but the position is read.
     for (int k = neighbours.begin(a); k < ghosts_begin; ++k) {  // owned: both ends
       const int b = neighbours.neighbour(k);
-      const double r_sq = distance_sq(end_a, b);
+      const Vec<Dim> r = separation(end_a, b);
+      const double r_sq = dot(r, r);
       if (r_sq >= kernel.cutoff_sq) continue;
       const PairEnd<Dim> end_b = end_of(b);
-      const SharedPairTerms<Dim> t = shared_terms(end_a, end_b, r_sq);
+      const SharedPairTerms<Dim> t = shared_terms(end_a, end_b, r, r_sq);
       add(sum_a, end_a, end_b, t, 1.0);
       PairRateSums<Dim> sum_b;
       add(sum_b, end_b, end_a, t, -1.0);
@@ -171,10 +172,11 @@ struct PairRates {
     }
     for (int k = ghosts_begin; k < end; ++k) {  // ghosts: their owners evaluate the pair for them
       const int b = neighbours.neighbour(k);
-      const double r_sq = distance_sq(end_a, b);
+      const Vec<Dim> r = separation(end_a, b);
+      const double r_sq = dot(r, r);
       if (r_sq >= kernel.cutoff_sq) continue;
       const PairEnd<Dim> end_b = end_of(b);
-      add(sum_a, end_a, end_b, shared_terms(end_a, end_b, r_sq), 1.0);
+      add(sum_a, end_a, end_b, shared_terms(end_a, end_b, r, r_sq), 1.0);
     }
     add_to_sums(copy, a, sum_a);
     sums.release(copy);
