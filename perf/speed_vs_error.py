@@ -3,21 +3,25 @@
 took, for the square arrays of solid fraction 0.2 and 0.5 (reference:
 Sangani & Acrivos 1982) and problem III (reference: the finite-element
 value of perf/stokes_reference.py, or else the finest PoreSPH run), at
-several resolutions; at the middle resolution also with another delta of
-the speed-of-sound rule and with density re-summation. Every run stops by
-itself when k is steady.
+several resolutions, each with the paper's speed-of-sound rule and with
+Fluid/Raise Sound Speed; at the middle resolution also with another delta
+of the rule and with density re-summation. Every run stops by itself when
+k is steady.
 
     perf/speed_vs_error.py [--build build] [--out build/speed-vs-error]
         [--problem3-runs DIR...] [--problem3-reference K_M2]
         [--square-arrays-csv build/square-arrays/square_arrays.csv]
+    perf/speed_vs_error.py --replot build/speed-vs-error/speed_vs_error.csv
 
 Problem III at dx = 0.005 L and 0.0025 L takes minutes to hours on two
 ranks; such runs are made once (input/problem3/problem3.xml with
 Discretization/Particle Spacing set) and their output directories given
 with --problem3-runs (the spacing is read from their parameters_used.xml);
 the script runs dx = 0.02 and 0.01 L itself when problem III has a
-reference.
-Writes speed_vs_error.csv into --out and docs/figures/speed_vs_error.png,
+reference. A run made with Fluid/Raise Sound Speed is put on the raised-c
+curve.
+Writes speed_vs_error.csv into --out (and, once all runs are done, into
+docs/figures beside the plot), docs/figures/speed_vs_error.png,
 and prints the table for docs/speed_vs_error.md, with what the steady-state
 stop saved against running to the scene's End Time.
 """
@@ -37,6 +41,7 @@ from poresph_runs import ROOT, run_poresph, write_csv  # noqa: E402
 
 L = 0.1
 SANGANI_ACRIVOS = {20: 1 / 51.53, 50: 1 / 532.55}
+RAISED = "raised c"  # the variant with Fluid/Raise Sound Speed
 END_TIME = 8000.0  # of the scenes below: what a run without the steady-state stop would simulate
 
 
@@ -50,6 +55,66 @@ def row(scene, variant, dx, summary, reference, ranks):
                 wall_seconds_to_end_time=summary["wall_seconds"] * steps_to_end / summary["steps"])
 
 
+def read_rows(path):
+    """The rows of an earlier speed_vs_error.csv, numbers as numbers."""
+    def value(text):
+        if text in ("", "None"):
+            return None
+        if text in ("True", "False"):
+            return text == "True"
+        try:
+            return int(text)
+        except ValueError:
+            try:
+                return float(text)
+            except ValueError:
+                return text
+    with open(path) as f:
+        return [{key: value(text) for key, text in r.items()} for r in csv.DictReader(f)]
+
+
+def report(rows):
+    """The plot docs/figures/speed_vs_error.png and the Markdown table."""
+    # The plot: |error| against wall time, one curve per scene and sound-speed
+    # choice (solid: the paper's rule, dashed: raised c), other variants as markers.
+    fig, ax = plt.subplots(figsize=(10, 5.5))
+    for scene, colour in [("square array c = 0.2", "C0"), ("square array c = 0.5", "C1"), ("problem III", "C2")]:
+        for curve, style in [("default", "o-"), (RAISED, "D--")]:
+            sel = sorted((r for r in rows if r["scene"] == scene and r["variant"] == curve and r["relative_error"]),
+                         key=lambda r: r["wall_seconds"] * r["ranks"])
+            if not sel:
+                continue
+            ax.loglog([r["wall_seconds"] * r["ranks"] for r in sel], [abs(r["relative_error"]) for r in sel], style,
+                      color=colour, label=scene if curve == "default" else f"{scene}, raised c")
+            for r in sel:
+                ax.annotate(f"{r['dx_over_L']:g}L", (r["wall_seconds"] * r["ranks"], abs(r["relative_error"])),
+                            fontsize=7, textcoords="offset points", xytext=(4, 4 if curve == "default" else -9))
+        for marker, variant in [("^", "delta 0.03"), ("v", "delta 0.003"), ("s", "re-summation every 20")]:
+            sel = [r for r in rows if r["scene"] == scene and r["variant"] == variant]
+            if sel:
+                ax.loglog([r["wall_seconds"] for r in sel], [abs(r["relative_error"]) for r in sel], marker,
+                          color=colour, mfc="none", label=f"{scene}, {variant} (dx = 0.02 L)")
+    for level in [0.05, 0.02, 0.01]:
+        ax.axhline(level, color="grey", lw=0.5, ls=":")
+    ax.set_xlabel("wall time to a steady k (core-seconds)")
+    ax.set_ylabel("|relative error of k|")
+    ax.set_title("PoreSPH: speed against error (steady-state stop, this machine)")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.tight_layout()
+    figure = os.path.join(ROOT, "docs", "figures", "speed_vs_error.png")
+    fig.savefig(figure, dpi=130)
+    print(f"wrote {figure}", file=sys.stderr)
+
+    print("| scene | variant | dx/L | k/L^2 | reference | error % | steps | wall s | ranks | wall s to End Time | saved |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        err = f"{100 * r['relative_error']:+.2f}" if r["relative_error"] is not None else "(reference)"
+        ref = f"{r['reference']:.5g}" if r["reference"] is not None else "-"
+        print(f"| {r['scene']} | {r['variant']} | {r['dx_over_L']:g} | {r['k_over_L2']:.5g} | {ref} | "
+              f"{err} | {r['steps']} | {r['wall_seconds']:.0f} | {r['ranks']} | {r['wall_seconds_to_end_time']:.0f} | "
+              f"{r['wall_seconds_to_end_time'] / r['wall_seconds']:.1f}x |")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -61,14 +126,20 @@ def main():
     parser.add_argument("--square-arrays-csv", default=None,
                         help="take the default runs of c = 0.2 and 0.5 from perf/square_arrays.py's CSV "
                              "instead of running them again")
+    parser.add_argument("--replot", default=None, metavar="CSV",
+                        help="make the plot and the table from an earlier speed_vs_error.csv, running nothing")
     args = parser.parse_args()
+    if args.replot:
+        report(read_rows(args.replot))
+        return
     os.makedirs(args.out, exist_ok=True)
     rows = []
 
     def save():
         write_csv(os.path.join(args.out, "speed_vs_error.csv"), rows)
 
-    variants = [("default", [])]
+    raised = (RAISED, ["Fluid/Raise Sound Speed=true"])
+    variants = [("default", []), raised]
     middle_variants = [("delta 0.03", ["Fluid/Density Variation=0.03"]),
                        ("delta 0.003", ["Fluid/Density Variation=0.003"]),
                        ("re-summation every 20", ["Discretization/Density Resummation Interval=20"])]
@@ -89,7 +160,8 @@ def main():
                                  k_over_L2=k, reference=reference, relative_error=k / reference - 1,
                                  steady=r["steady"], steps=steps, wall_seconds=wall, ranks=1,
                                  wall_seconds_to_end_time=wall * (END_TIME / float(r["simulated_time"]))))
-            for variant, settings in (variants if not done else []) + (middle_variants if dx == 0.002 else []):
+            todo = variants if not done else [raised]
+            for variant, settings in todo + (middle_variants if dx == 0.002 else []):
                 out = os.path.join(args.out, f"c{fraction}-dx{dx}-{variant.replace(' ', '_')}")
                 s = run_poresph(args.build, scene, out, [f"Discretization/Particle Spacing={dx!r}"] + settings)
                 rows.append(row(f"square array c = 0.{fraction // 10}", variant, dx, s, reference, 1))
@@ -107,59 +179,33 @@ def main():
                 return float(parameter.get("value"))
         sys.exit(f"{directory}/parameters_used.xml has no Particle Spacing")
 
-    given = sorted(((spacing(d), load(d)) for d in args.problem3_runs), key=lambda pair: pair[0])
+    def variant_of(directory):
+        for parameter in ElementTree.parse(os.path.join(directory, "parameters_used.xml")).iter("Parameter"):
+            if parameter.get("name") == "Raise Sound Speed" and parameter.get("value") == "true":
+                return raised[0]
+        return "default"
+
+    given = sorted(((spacing(d), variant_of(d), load(d)) for d in args.problem3_runs), key=lambda run: run[0])
     reference = args.problem3_reference / L**2 if args.problem3_reference else None
     reference_run = None
     if reference is None and given:
-        reference_run = given[0][1]
+        reference_run = given[0][2]
         reference = reference_run["permeability"]["kxx"] / L**2
     if reference is None:
         print("problem III left out: no --problem3-reference and no --problem3-runs", file=sys.stderr)
     for dx in [0.002, 0.001] if reference else []:
-        out = os.path.join(args.out, f"problem3-dx{dx}")
-        s = run_poresph(args.build, "problem3/problem3.xml", out, [f"Discretization/Particle Spacing={dx!r}"])
-        rows.append(row("problem III", "default", dx, s, reference, 1))
-        print(rows[-1], file=sys.stderr, flush=True)
-    for dx, s in given:
-        rows.append(row("problem III", "default", dx, s, None if s is reference_run else reference, s["ranks"]))
+        for variant, settings in variants:
+            out = os.path.join(args.out, f"problem3-dx{dx}-{variant.replace(' ', '_')}")
+            s = run_poresph(args.build, "problem3/problem3.xml", out,
+                            [f"Discretization/Particle Spacing={dx!r}"] + settings)
+            rows.append(row("problem III", variant, dx, s, reference, 1))
+            print(rows[-1], file=sys.stderr, flush=True)
+    for dx, variant, s in given:
+        rows.append(row("problem III", variant, dx, s, None if s is reference_run else reference, s["ranks"]))
     save()
 
-    # The plot: |error| against wall time, one curve per scene (default runs), variants as markers.
-    fig, ax = plt.subplots(figsize=(7, 5))
-    for scene, colour in [("square array c = 0.2", "C0"), ("square array c = 0.5", "C1"), ("problem III", "C2")]:
-        sel = sorted((r for r in rows if r["scene"] == scene and r["variant"] == "default" and r["relative_error"]),
-                     key=lambda r: r["wall_seconds"] * r["ranks"])
-        if not sel:
-            continue
-        ax.loglog([r["wall_seconds"] * r["ranks"] for r in sel], [abs(r["relative_error"]) for r in sel], "o-",
-                  color=colour, label=scene)
-        for r in sel:
-            ax.annotate(f"dx={r['dx_over_L']:g}L", (r["wall_seconds"] * r["ranks"], abs(r["relative_error"])),
-                        fontsize=7, textcoords="offset points", xytext=(4, 4))
-        for marker, variant in [("^", "delta 0.03"), ("v", "delta 0.003"), ("s", "re-summation every 20")]:
-            sel = [r for r in rows if r["scene"] == scene and r["variant"] == variant]
-            if sel:
-                ax.loglog([r["wall_seconds"] for r in sel], [abs(r["relative_error"]) for r in sel], marker,
-                          color=colour, mfc="none", label=f"{scene}, {variant} (dx = 0.02 L)")
-    for level in [0.05, 0.02, 0.01]:
-        ax.axhline(level, color="grey", lw=0.5, ls=":")
-    ax.set_xlabel("wall time to a steady k (core-seconds)")
-    ax.set_ylabel("|relative error of k|")
-    ax.set_title("PoreSPH: speed against error (steady-state stop, this machine)")
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    figure = os.path.join(ROOT, "docs", "figures", "speed_vs_error.png")
-    fig.savefig(figure, dpi=130)
-    print(f"wrote {figure}", file=sys.stderr)
-
-    print("| scene | variant | dx/L | k/L^2 | reference | error % | steps | wall s | ranks | wall s to End Time | saved |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
-    for r in rows:
-        err = f"{100 * r['relative_error']:+.2f}" if r["relative_error"] is not None else "(reference)"
-        ref = f"{r['reference']:.5g}" if r["reference"] is not None else "-"
-        print(f"| {r['scene']} | {r['variant']} | {r['dx_over_L']:g} | {r['k_over_L2']:.5g} | {ref} | "
-              f"{err} | {r['steps']} | {r['wall_seconds']:.0f} | {r['ranks']} | {r['wall_seconds_to_end_time']:.0f} | "
-              f"{r['wall_seconds_to_end_time'] / r['wall_seconds']:.1f}x |")
+    write_csv(os.path.join(ROOT, "docs", "figures", "speed_vs_error.csv"), rows)
+    report(rows)
 
 
 if __name__ == "__main__":
