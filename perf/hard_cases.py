@@ -10,8 +10,8 @@ Writes hard_cases.csv into --out and prints the Markdown table for
 docs/hard_cases.md: what ran, the largest density variation, fluid particles
 found inside grains (and how many were put back on a surface), k against its
 reference, steps, wall time and how the run ended. --quick leaves out the
-throat and touching-grain runs (minutes each; the throat at 4 dx, about
-an hour on two ranks).
+throat and touching-grain runs (15-20 minutes each; the throat at 4 dx,
+about two hours on two ranks).
 """
 import argparse
 import os
