@@ -173,19 +173,16 @@ def main():
         with open(os.path.join(directory, "summary.json")) as f:
             return json.load(f)
 
-    def spacing(directory):
-        for parameter in ElementTree.parse(os.path.join(directory, "parameters_used.xml")).iter("Parameter"):
-            if parameter.get("name") == "Particle Spacing":
-                return float(parameter.get("value"))
-        sys.exit(f"{directory}/parameters_used.xml has no Particle Spacing")
+    def given_run(directory):
+        """(spacing, variant, summary) of an earlier problem III run, from its parameters_used.xml."""
+        parameters = {p.get("name"): p.get("value") for p in
+                      ElementTree.parse(os.path.join(directory, "parameters_used.xml")).iter("Parameter")}
+        if "Particle Spacing" not in parameters:
+            sys.exit(f"{directory}/parameters_used.xml has no Particle Spacing")
+        variant = RAISED if parameters.get("Raise Sound Speed") == "true" else "default"
+        return float(parameters["Particle Spacing"]), variant, load(directory)
 
-    def variant_of(directory):
-        for parameter in ElementTree.parse(os.path.join(directory, "parameters_used.xml")).iter("Parameter"):
-            if parameter.get("name") == "Raise Sound Speed" and parameter.get("value") == "true":
-                return raised[0]
-        return "default"
-
-    given = sorted(((spacing(d), variant_of(d), load(d)) for d in args.problem3_runs), key=lambda run: run[0])
+    given = sorted((given_run(d) for d in args.problem3_runs), key=lambda run: run[0])
     reference = args.problem3_reference / L**2 if args.problem3_reference else None
     reference_run = None
     if reference is None and given:
