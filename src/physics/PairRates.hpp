@@ -61,13 +61,18 @@ struct SharedPairTerms {
   double viscous;      // nu (1/rho_a + 1/rho_b) F
 };
 
-// One particle's rates from its neighbours.
-template <int Dim>
+// One particle's rates from its neighbours, laid out as RateComponents says.
+template <int Dim, bool WithShifting>
 struct PairRateSums {
-  double drho = 0.0;
-  Vec<Dim> acceleration = Vec<Dim>::zero();
-  Vec<Dim> grad_concentration = Vec<Dim>::zero();
-  double grad_velocity[Dim][Dim] = {};
+  using Components = RateComponents<Dim>;
+  static constexpr int count = Components::count(WithShifting);
+  double value[count] = {};
+  KOKKOS_FORCEINLINE_FUNCTION double& drho() { return value[Components::density]; }
+  KOKKOS_FORCEINLINE_FUNCTION double& acceleration(int d) { return value[Components::acceleration + d]; }
+  KOKKOS_FORCEINLINE_FUNCTION double& grad_concentration(int d) { return value[Components::grad_concentration + d]; }
+  KOKKOS_FORCEINLINE_FUNCTION double& grad_velocity(int i, int j) {
+    return value[Components::grad_velocity + i * Dim + j];
+  }
 };
 
 // The per-pair helpers are force-inlined: GCC 12 left add() as a call,
@@ -79,6 +84,10 @@ template <int Dim, class ExecSpace, bool WithSurfaces, bool WithShifting>
 struct PairRates {
   using MemorySpace = typename ExecSpace::memory_space;
   using Components = RateComponents<Dim>;
+  using Sums = PairRateSums<Dim, WithShifting>;
+  // List entries per chunk of the pair loop: enough that the vectorised
+  // phase runs full vectors, few enough that a chunk stays in L1.
+  static constexpr int kPairChunk = 32;
   Particles<Dim, MemorySpace> P;
   NeighbourList<Dim, ExecSpace> neighbours;
   PairSums<ExecSpace> sums;
@@ -91,21 +100,17 @@ struct PairRates {
     return {row<Dim>(P.x, i), row<Dim>(P.v, i), P.m(i), P.inverse_density(i), P.pressure_term(i), kind, i};
   }
 
-  // r = x_a - x_b and r_sq = |r|^2, as the cutoff test computed them.
+  // r = x_a - x_b and F = (1/r) dW/dr, as the first phases computed them.
   KOKKOS_FORCEINLINE_FUNCTION SharedPairTerms<Dim> shared_terms(const PairEnd<Dim>& a, const PairEnd<Dim>& b,
-                                                                const Vec<Dim>& r, double r_sq) const {
+                                                                const Vec<Dim>& r, double F) const {
     SharedPairTerms<Dim> t;
     t.r = r;
     t.v = a.v - b.v;
-    t.F = kernel.derivative_over_r(math::sqrt(r_sq));
+    t.F = F;
     t.continuity = continuity_rate(1.0, t.v, t.r, t.F);
     t.pressure = pressure_acceleration(1.0, a.pressure_term, b.pressure_term, t.r, t.F);
     t.viscous = fluid.kinematic_viscosity * (a.inverse_density + b.inverse_density) * t.F;
     return t;
-  }
-
-  KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> separation(const PairEnd<Dim>& a, int b) const {
-    return a.x - row<Dim>(P.x, b);
   }
 
   // The viscous velocity difference fluid particle `self` sees for `other`
@@ -126,59 +131,77 @@ struct PairRates {
 
   // Adds to `sum` what `self` gains from `other`; sign = +1 when self is the
   // pair's a, -1 when it is b (r and v change sign, the continuity does not).
-  KOKKOS_FORCEINLINE_FUNCTION void add(PairRateSums<Dim>& sum, const PairEnd<Dim>& self, const PairEnd<Dim>& other,
+  KOKKOS_FORCEINLINE_FUNCTION void add(Sums& sum, const PairEnd<Dim>& self, const PairEnd<Dim>& other,
                                        const SharedPairTerms<Dim>& t, double sign) const {
-    sum.drho += other.m * t.continuity;
+    sum.drho() += other.m * t.continuity;
     if (WithSurfaces && self.kind != kFluid) return;  // boundary particles move as their surface prescribes
     const Vec<Dim> r = sign * t.r, v = sign * t.v;
-    sum.acceleration += other.m * (sign * t.pressure + t.viscous * viscous_velocity(other, v, r));
+    const Vec<Dim> acceleration = other.m * (sign * t.pressure + t.viscous * viscous_velocity(other, v, r));
+    for (int d = 0; d < Dim; ++d) sum.acceleration(d) += acceleration[d];
     if constexpr (WithShifting) {
       const double volume_F = other.m * other.inverse_density * t.F;  // (m/rho) grad W = volume_F r
-      sum.grad_concentration += volume_F * r;
-      for (int i = 0; i < Dim; ++i)
-        for (int j = 0; j < Dim; ++j) sum.grad_velocity[i][j] -= volume_F * v[i] * r[j];
+      for (int i = 0; i < Dim; ++i) {
+        sum.grad_concentration(i) += volume_F * r[i];
+        for (int j = 0; j < Dim; ++j) sum.grad_velocity(i, j) -= volume_F * v[i] * r[j];
+      }
     }
   }
 
-  KOKKOS_FORCEINLINE_FUNCTION void add_to_sums(int copy, int i, const PairRateSums<Dim>& sum) const {
-    sums.add(copy, i, Components::density, sum.drho);
-    for (int d = 0; d < Dim; ++d) sums.add(copy, i, Components::acceleration + d, sum.acceleration[d]);
-    if constexpr (WithShifting) {
-      for (int d = 0; d < Dim; ++d) sums.add(copy, i, Components::grad_concentration + d, sum.grad_concentration[d]);
-      for (int d = 0; d < Dim; ++d)
-        for (int e = 0; e < Dim; ++e)
-          sums.add(copy, i, Components::grad_velocity + d * Dim + e, sum.grad_velocity[d][e]);
+  // Pairs of particle a with its list entries [first, last), in chunks of
+  // kPairChunk entries and three phases per chunk:
+  //  1. separations, and the entries within the support kept by a
+  //     branch-free compaction (the list holds the skin too, and which
+  //     entries fall in it is random: a branch on it mispredicts);
+  //  2. F = (1/r) dW/dr of the kept pairs, a loop without branches or
+  //     dependencies between pairs that the compiler vectorises (as scalar
+  //     code, the latency of its sqrt and division was a quarter of the step);
+  //  3. the terms of each kept pair, added to a and, with BothEnds (b owned),
+  //     to b; a ghost's owner evaluates the pair for it.
+  template <bool BothEnds>
+  KOKKOS_FORCEINLINE_FUNCTION void add_pairs(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int first,
+                                             int last) const {
+    for (int chunk_begin = first; chunk_begin < last; chunk_begin += kPairChunk) {
+      const int chunk_end = chunk_begin + kPairChunk < last ? chunk_begin + kPairChunk : last;
+      int b_of[kPairChunk];
+      double r_of[Dim][kPairChunk];
+      double F_of[kPairChunk];  // |r|^2 in phase 1, (1/r) dW/dr from phase 2
+      int kept = 0;
+      for (int k = chunk_begin; k < chunk_end; ++k) {
+        const int b = neighbours.neighbour(k);
+        double r_sq = 0.0;
+        for (int d = 0; d < Dim; ++d) {
+          const double r = end_a.x[d] - P.x(b, d);
+          r_of[d][kept] = r;
+          r_sq += r * r;
+        }
+        b_of[kept] = b;
+        F_of[kept] = r_sq;
+        kept += r_sq < kernel.cutoff_sq;
+      }
+      for (int j = 0; j < kept; ++j) F_of[j] = kernel.derivative_over_r(math::sqrt(F_of[j]));
+      for (int j = 0; j < kept; ++j) {
+        Vec<Dim> r;
+        for (int d = 0; d < Dim; ++d) r[d] = r_of[d][j];
+        const PairEnd<Dim> end_b = end_of(b_of[j]);
+        const SharedPairTerms<Dim> t = shared_terms(end_a, end_b, r, F_of[j]);
+        add(sum_a, end_a, end_b, t, 1.0);
+        if constexpr (BothEnds) {
+          Sums sum_b;
+          add(sum_b, end_b, end_a, t, -1.0);
+          for (int c = 0; c < Sums::count; ++c) sums.add(copy, end_b.index, c, sum_b.value[c]);
+        }
+      }
     }
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(int a) const {
     const PairEnd<Dim> end_a = end_of(a);
-    PairRateSums<Dim> sum_a;
+    Sums sum_a;
     const int copy = sums.acquire();
-    const int ghosts_begin = neighbours.ghosts_begin(a), end = neighbours.end(a);
-    // The list holds the skin too: pairs beyond the support are skipped
-    // before anything but the position is read.
-    for (int k = neighbours.begin(a); k < ghosts_begin; ++k) {  // owned: both ends
-      const int b = neighbours.neighbour(k);
-      const Vec<Dim> r = separation(end_a, b);
-      const double r_sq = dot(r, r);
-      if (r_sq >= kernel.cutoff_sq) continue;
-      const PairEnd<Dim> end_b = end_of(b);
-      const SharedPairTerms<Dim> t = shared_terms(end_a, end_b, r, r_sq);
-      add(sum_a, end_a, end_b, t, 1.0);
-      PairRateSums<Dim> sum_b;
-      add(sum_b, end_b, end_a, t, -1.0);
-      add_to_sums(copy, end_b.index, sum_b);
-    }
-    for (int k = ghosts_begin; k < end; ++k) {  // ghosts: their owners evaluate the pair for them
-      const int b = neighbours.neighbour(k);
-      const Vec<Dim> r = separation(end_a, b);
-      const double r_sq = dot(r, r);
-      if (r_sq >= kernel.cutoff_sq) continue;
-      const PairEnd<Dim> end_b = end_of(b);
-      add(sum_a, end_a, end_b, shared_terms(end_a, end_b, r, r_sq), 1.0);
-    }
-    add_to_sums(copy, a, sum_a);
+    const int ghosts_begin = neighbours.ghosts_begin(a);
+    add_pairs<true>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);  // owned neighbours
+    add_pairs<false>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));   // ghosts
+    for (int c = 0; c < Sums::count; ++c) sums.add(copy, a, c, sum_a.value[c]);
     sums.release(copy);
   }
 };
