@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Backend comparison: problems I and III at dx = 0.005 and 0.0025 of the
 cell side on Kokkos Serial, OpenMP with 1 and 2 threads, and MPI with 2
-ranks x 1 thread, each repeated.
+ranks x 1 thread, each repeated; and, as the ceiling any parallel run can
+reach on the machine, an independent Serial run on every core at once.
 
     perf/backends.py [--build build-openmp] [--steps 100] [--repeats 5]
 
@@ -14,29 +15,53 @@ import argparse
 import csv
 import os
 import statistics
+import subprocess
 import sys
 
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from poresph_runs import ROOT, run_poresph  # noqa: E402
+from poresph_runs import CORES, MPI_ENV, ROOT, poresph_command, read_summary, run_poresph  # noqa: E402
 
+CEILING = "2 Serial runs at once (ceiling)"
 CONFIGS = [  # label, ranks, backend, threads
     ("Serial", 1, "serial", 1),
     ("OpenMP 1 thread", 1, "openmp", 1),
     ("OpenMP 2 threads", 1, "openmp", 2),
     ("MPI 2 ranks x 1 thread", 2, "serial", 1),
+    (CEILING, 0, "serial", 1),  # one independent run per core
 ]
 SCENES = {"I": "problem1/problem1.xml", "III": "problem3/problem3.xml"}
 
 
+def settings(args, dx, backend, threads):
+    return [f"Discretization/Particle Spacing={dx!r}", f"Run/Max Steps={args.steps}",
+            "Permeability/Steady Tolerance=0", f"Run/Backend={backend}", f"Run/Threads={threads}"]
+
+
 def run(args, scene, dx, ranks, backend, threads, k):
+    """One run; its particle-steps per second per core and its summary."""
     out = os.path.join(args.out, "runs", f"{os.path.basename(scene)}-{dx}-{ranks}-{backend}-{threads}-{k}")
-    return run_poresph(args.build, scene, out,
-                       [f"Discretization/Particle Spacing={dx!r}", f"Run/Max Steps={args.steps}",
-                        "Permeability/Steady Tolerance=0", f"Run/Backend={backend}", f"Run/Threads={threads}"],
-                       ranks=ranks, threads=threads)
+    s = run_poresph(args.build, scene, out, settings(args, dx, backend, threads), ranks=ranks, threads=threads)
+    return s["particle_steps_per_second"] / (ranks * threads), s
+
+
+def run_one_per_core(args, scene, dx, k):
+    """What the cores can give together: an independent Serial run on each
+    core at once. No parallelisation can beat their summed rate, since the
+    cores share what a run leans on (caches, memory, the host's core).
+    Returns the mean rate per core and one summary."""
+    outs = [os.path.join(args.out, "runs", f"{os.path.basename(scene)}-{dx}-ceiling-{core}-{k}") for core in range(CORES)]
+    runs = [subprocess.Popen(["taskset", "-c", str(core)] + poresph_command(args.build, scene, out,
+                                                                         settings(args, dx, "serial", 1)),
+                             stdout=subprocess.DEVNULL, env=dict(MPI_ENV, OMP_NUM_THREADS="1"))
+            for core, out in enumerate(outs)]
+    for r in runs:
+        if r.wait() != 0:
+            raise subprocess.CalledProcessError(r.returncode, r.args)
+    summaries = [read_summary(out) for out in outs]
+    return statistics.mean(s["particle_steps_per_second"] for s in summaries), summaries[0]
 
 
 def main():
@@ -58,14 +83,17 @@ def main():
             backend_seen = {}
             for k in range(args.repeats):
                 for label, ranks, backend, threads in CONFIGS:
-                    s = run(args, scene, dx, ranks, backend, threads, k)
-                    cores = ranks * threads
-                    samples[label].append(s["particle_steps_per_second"] / cores)
+                    if label == CEILING:
+                        per_core, s = run_one_per_core(args, scene, dx, k)
+                    else:
+                        per_core, s = run(args, scene, dx, ranks, backend, threads, k)
+                    samples[label].append(per_core)
                     backend_seen[label] = (s["backend"], s["threads"], s["ranks"],
                                            s["fluid_particles"] + s["boundary_particles"])
             for label, ranks, backend, threads in CONFIGS:
                 values = samples[label]
-                rows.append(dict(problem=problem, dx_over_L=dx / 0.1, configuration=label, cores=ranks * threads,
+                cores = CORES if label == CEILING else ranks * threads
+                rows.append(dict(problem=problem, dx_over_L=dx / 0.1, configuration=label, cores=cores,
                                  particles=backend_seen[label][3],
                                  per_core_median=statistics.median(values), per_core_min=min(values),
                                  per_core_max=max(values), backend=backend_seen[label][0]))

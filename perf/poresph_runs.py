@@ -12,13 +12,12 @@ MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CO
                OMPI_MCA_rmaps_base_oversubscribe="1", OMP_PROC_BIND="false", KOKKOS_DISABLE_WARNINGS="1")
 
 
-def run_poresph(build, scene, directory, settings=(), ranks=None, threads=1, allow_failure=False):
-    """Runs input/SCENE with the given "Sublist/Name=value" settings, writing
-    into DIRECTORY. ranks=None runs one process without mpiexec. Ranks of one
-    thread are bound to cores while there are cores for them (unbound ranks
-    wander and lose their caches); OpenMP threads are left unbound.
-    allow_failure: a run the solver stopped (exit status 3) still returns its
-    summary.json, which then says "stopped_by": "failure" and why."""
+def poresph_command(build, scene, directory, settings=(), ranks=None, threads=1):
+    """The command line that runs input/SCENE with "Sublist/Name=value"
+    settings into DIRECTORY. ranks=None runs one process without mpiexec.
+    Ranks of one thread are bound to cores while there are cores for them
+    (unbound ranks wander and lose their caches); OpenMP threads are left
+    unbound."""
     cmd = []
     if ranks is not None:
         binding = "core" if threads == 1 and ranks <= CORES else "none"
@@ -27,11 +26,23 @@ def run_poresph(build, scene, directory, settings=(), ranks=None, threads=1, all
             "--set", "Run/Progress=never"]
     for setting in settings:
         cmd += ["--set", setting]
+    return cmd
+
+
+def read_summary(directory):
+    with open(os.path.join(directory, "summary.json")) as f:
+        return json.load(f)
+
+
+def run_poresph(build, scene, directory, settings=(), ranks=None, threads=1, allow_failure=False):
+    """Runs poresph_command(...) and returns the run's summary.json.
+    allow_failure: a run the solver stopped (exit status 3) still returns its
+    summary.json, which then says "stopped_by": "failure" and why."""
+    cmd = poresph_command(build, scene, directory, settings, ranks, threads)
     done = subprocess.run(cmd, stdout=subprocess.DEVNULL, env=dict(MPI_ENV, OMP_NUM_THREADS=str(threads)))
     if done.returncode != 0 and not (allow_failure and done.returncode == 3):
         raise subprocess.CalledProcessError(done.returncode, cmd)
-    with open(os.path.join(directory, "summary.json")) as f:
-        return json.load(f)
+    return read_summary(directory)
 
 
 def write_csv(path, rows):
