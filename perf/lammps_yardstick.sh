@@ -50,19 +50,9 @@ if [ ! -x "$lmp" ]; then
     $sudo apt-get install -y -qq --no-install-recommends "${need[@]}"
   fi
 
-  # The source package through a private apt configuration (same approach as
-  # scripts/build-trilinos-openmp.sh): deb-src twin of debian.sources.
-  mkdir -p "$work/apt/sources.list.d" "$work/apt/lists/partial"
-  sed 's/^Types: deb$/Types: deb-src/' /etc/apt/sources.list.d/debian.sources \
-    > "$work/apt/sources.list.d/debian-src.sources"
-  apt_private=(-o "Dir::Etc::SourceList=/dev/null" -o "Dir::Etc::SourceParts=$work/apt/sources.list.d"
-               -o "Dir::State::Lists=$work/apt/lists")
-  cd "$work"
-  if ! ls -d lammps-*/ >/dev/null 2>&1; then
-    apt-get "${apt_private[@]}" update -qq
-    apt-get "${apt_private[@]}" source -qq lammps
-  fi
-  source_dir="$(ls -d "$work"/lammps-*/ | head -n 1)"
+  # The source package (scripts/debian-source.sh).
+  source "$here/../scripts/debian-source.sh"
+  fetch_debian_source lammps "$work"
 
   # Serial (no MPI, no OpenMP), SPH package only (every package is off by
   # default in a fresh LAMMPS CMake build), Release = CMake's "-O3 -DNDEBUG"

@@ -26,18 +26,9 @@ start=$(date +%s)
 $sudo apt-get install -y -qq --no-install-recommends g++ cmake ninja-build ccache dpkg-dev \
   libopenmpi-dev openmpi-bin libblas-dev liblapack-dev
 
-# The source package, through a private apt configuration: a fresh machine
-# has no deb-src entry, and the system's own sources stay as they are.
-mkdir -p "$work/apt/sources.list.d" "$work/apt/lists/partial"
-sed 's/^Types: deb$/Types: deb-src/' /etc/apt/sources.list.d/debian.sources > "$work/apt/sources.list.d/debian-src.sources"
-apt_private=(-o "Dir::Etc::SourceList=/dev/null" -o "Dir::Etc::SourceParts=$work/apt/sources.list.d"
-             -o "Dir::State::Lists=$work/apt/lists")
-cd "$work"
-if ! ls -d trilinos-*/ >/dev/null 2>&1; then
-  apt-get "${apt_private[@]}" update -qq
-  apt-get "${apt_private[@]}" source -qq trilinos
-fi
-source_dir="$(ls -d "$work"/trilinos-*/ | head -n 1)"
+# The source package (scripts/debian-source.sh).
+source "$(dirname "${BASH_SOURCE[0]}")/debian-source.sh"
+fetch_debian_source trilinos "$work"
 
 # Only what PoreSPH uses: Kokkos (Serial + OpenMP), Teuchos, Zoltan2 and
 # what Zoltan2 requires; no tests, examples, Fortran, Epetra, Sphynx, and no
