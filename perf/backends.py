@@ -22,7 +22,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from poresph_runs import CORES, MPI_ENV, ROOT, poresph_command, read_summary, run_poresph  # noqa: E402
+from poresph_runs import CORES, ROOT, openmp_env, poresph_command, read_summary, run_poresph  # noqa: E402
 
 CEILING = "2 Serial runs at once (ceiling)"
 CONFIGS = [  # label, ranks, backend, threads
@@ -55,7 +55,7 @@ def run_one_per_core(args, scene, dx, k):
     outs = [os.path.join(args.out, "runs", f"{os.path.basename(scene)}-{dx}-ceiling-{core}-{k}") for core in range(CORES)]
     runs = [subprocess.Popen(["taskset", "-c", str(core)] + poresph_command(args.build, scene, out,
                                                                          settings(args, dx, "serial", 1)),
-                             stdout=subprocess.DEVNULL, env=dict(MPI_ENV, OMP_NUM_THREADS="1"))
+                             stdout=subprocess.DEVNULL, env=openmp_env(None, 1))
             for core, out in enumerate(outs)]
     for r in runs:
         if r.wait() != 0:

@@ -12,12 +12,23 @@ MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CO
                OMPI_MCA_rmaps_base_oversubscribe="1", OMP_PROC_BIND="false", KOKKOS_DISABLE_WARNINGS="1")
 
 
+def openmp_env(ranks, threads):
+    """The environment of a run: the threads of one process without mpiexec
+    are bound to cores, one each, as Kokkos recommends (and as mpiexec binds
+    single-thread ranks). Under mpiexec they stay unbound: every rank would
+    bind its first thread to the same first core."""
+    env = dict(MPI_ENV, OMP_NUM_THREADS=str(threads))
+    if ranks is None and threads > 1:
+        env.update(OMP_PROC_BIND="spread", OMP_PLACES="cores")
+    return env
+
+
 def poresph_command(build, scene, directory, settings=(), ranks=None, threads=1):
     """The command line that runs input/SCENE with "Sublist/Name=value"
     settings into DIRECTORY. ranks=None runs one process without mpiexec.
     Ranks of one thread are bound to cores while there are cores for them
-    (unbound ranks wander and lose their caches); OpenMP threads are left
-    unbound."""
+    (unbound ranks wander and lose their caches); so are the OpenMP threads
+    of a single process (openmp_env)."""
     cmd = []
     if ranks is not None:
         binding = "core" if threads == 1 and ranks <= CORES else "none"
@@ -39,7 +50,7 @@ def run_poresph(build, scene, directory, settings=(), ranks=None, threads=1, all
     allow_failure: a run the solver stopped (exit status 3) still returns its
     summary.json, which then says "stopped_by": "failure" and why."""
     cmd = poresph_command(build, scene, directory, settings, ranks, threads)
-    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, env=dict(MPI_ENV, OMP_NUM_THREADS=str(threads)))
+    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, env=openmp_env(ranks, threads))
     if done.returncode != 0 and not (allow_failure and done.returncode == 3):
         raise subprocess.CalledProcessError(done.returncode, cmd)
     return read_summary(directory)

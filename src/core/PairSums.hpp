@@ -3,11 +3,11 @@
 // The half neighbour list (core/NeighbourList.hpp) evaluates a pair once and
 // adds to both particles, so two threads may add to the same particle at the
 // same time. Each thread therefore adds into its own copy of the sums, picked
-// by Kokkos's UniqueToken (the thread's rank in the pool on OpenMP, 0 on
-// Serial), and take() adds the copies up in a fixed order: no atomics, and
-// the same sums bit for bit from run to run. Cost: copies x particles x
-// components doubles, allocated when the particle count grows, never in a
-// step; take() leaves each copy zero for the next loop.
+// by Kokkos's UniqueToken of global scope (the thread's id, a thread-local
+// variable on OpenMP; 0 on Serial), and take() adds the copies up in a fixed
+// order: no atomics, and the same sums bit for bit from run to run. Cost:
+// copies x particles x components doubles, allocated when the particle count
+// grows, never in a step; take() leaves each copy zero for the next loop.
 #include <Kokkos_Core.hpp>
 
 namespace poresph {
@@ -16,7 +16,11 @@ template <class ExecSpace>
 class PairSums {
  public:
   using MemorySpace = typename ExecSpace::memory_space;
-  using Token = Kokkos::Experimental::UniqueToken<ExecSpace>;
+  // Global, not the default Instance scope: Kokkos 3.4's Instance token on
+  // OpenMP asks the OpenMP runtime three times per acquire (omp_get_level,
+  // omp_get_num_threads, omp_get_thread_num), once per particle here: about
+  // a tenth of the step. Its size is the thread count Kokkos started with.
+  using Token = Kokkos::Experimental::UniqueToken<ExecSpace, Kokkos::Experimental::UniqueTokenScope::Global>;
 
   PairSums() = default;
   explicit PairSums(int components) : components_(components) {}
