@@ -23,8 +23,10 @@ KOKKOS_INLINE_FUNCTION constexpr double quintic_normalisation(double h) {
 // The terms are written with max(0, k - s) rather than branches on s: in
 // the pair loop s is effectively random, and mispredicted branches cost more
 // than the few extra multiplications. max(0, t) is computed as (t + |t|) / 2,
-// exact for every t, because GCC 12 vectorises that and not `t > 0 ? t : 0`.
+// which is exact (2t / 2, or 0) for the t here, because GCC 12 vectorises
+// that and not `t > 0 ? t : 0`.
 KOKKOS_INLINE_FUNCTION double positive_part(double t) { return 0.5 * (t + math::fabs(t)); }
+
 // f(s) of the quintic spline.
 KOKKOS_INLINE_FUNCTION double quintic_shape(double s) {
   const double t3 = positive_part(3.0 - s), t2 = positive_part(2.0 - s), t1 = positive_part(1.0 - s);
