@@ -27,7 +27,6 @@ stop saved against running to the scene's End Time.
 """
 import argparse
 import csv
-import json
 import os
 import sys
 import xml.etree.ElementTree as ElementTree
@@ -37,7 +36,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from poresph_runs import ROOT, run_poresph, write_csv  # noqa: E402
+from poresph_runs import ROOT, read_summary, run_poresph, write_csv  # noqa: E402
 
 L = 0.1
 SANGANI_ACRIVOS = {20: 1 / 51.53, 50: 1 / 532.55}
@@ -169,10 +168,6 @@ def main():
                 save()
 
     # Problem III: the finite-element reference, or else the finest run.
-    def load(directory):
-        with open(os.path.join(directory, "summary.json")) as f:
-            return json.load(f)
-
     def given_run(directory):
         """(spacing, variant, summary) of an earlier problem III run, from its parameters_used.xml."""
         parameters = {p.get("name"): p.get("value") for p in
@@ -180,7 +175,7 @@ def main():
         if "Particle Spacing" not in parameters:
             sys.exit(f"{directory}/parameters_used.xml has no Particle Spacing")
         variant = RAISED if parameters.get("Raise Sound Speed") == "true" else "default"
-        return float(parameters["Particle Spacing"]), variant, load(directory)
+        return float(parameters["Particle Spacing"]), variant, read_summary(directory)
 
     given = sorted((given_run(d) for d in args.problem3_runs), key=lambda run: run[0])
     reference = args.problem3_reference / L**2 if args.problem3_reference else None
