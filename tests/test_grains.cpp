@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 
-#include "diagnostics/SteadyState.hpp"
 #include "geometry/GrainMap.hpp"
 #include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
@@ -200,20 +199,6 @@ TEST(Grains, ThroatCheckRefusesAndWarnsExactlyWhenItShould) {
   scene.particle_spacing = 0.01;
   const auto across = grains_from_list({0.05, 0.5, 0.1, 0.85 - 0.005, 0.5, 0.1}, 2);  // gap 0.005 through x = 0
   EXPECT_NE(error_of([&] { check_throats(across, scene); }).find("0.005 wide"), std::string::npos);
-}
-
-TEST(SteadyState, DetectsAPlateauOnlyAfterAFullWindow) {
-  SteadyStateDetector detector(10.0, 1e-3);
-  bool steady = false;
-  double t = 0;
-  for (; t <= 100 && !steady; t += 1) steady = detector.add(t, 1 - std::exp(-t / 10));
-  // 1 - e^{-t/10} changes by less than 1e-3 over 10 units once e^{-t/10}(e - 1) < 1e-3.
-  EXPECT_TRUE(steady);
-  EXPECT_GT(t, 10 * std::log(1.718 / 1e-3) - 2);
-  SteadyStateDetector constant(10.0, 1e-3);
-  EXPECT_FALSE(constant.add(0, 1.0));  // not before a whole window has passed
-  EXPECT_FALSE(constant.add(5, 1.0));
-  EXPECT_TRUE(constant.add(10, 1.0));
 }
 
 }  // namespace

@@ -19,8 +19,9 @@
 #include "app/Simulation.hpp"
 #include "core/ExecutionSpaces.hpp"
 #include "diagnostics/ChannelFlow.hpp"
-#include "diagnostics/SteadyState.hpp"
+#include "diagnostics/PermeabilityMonitor.hpp"
 #include "geometry/Grains.hpp"
+#include "io/ProgressLine.hpp"
 #include "parallel/Communicator.hpp"
 
 namespace poresph {
@@ -31,32 +32,6 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
-
-// "step 1200  t = 1.2e-02 s  40.0 %  ETA 3 s", rewritten in place at most
-// four times a second; nothing at all when disabled (logs stay quiet).
-class ProgressLine {
- public:
-  explicit ProgressLine(bool enabled) : enabled_(enabled), start_(Clock::now()), last_(start_) {}
-  void update(const char* label, long long step, double time, double fraction) {
-    if (!enabled_) return;
-    const auto now = Clock::now();
-    if (std::chrono::duration<double>(now - last_).count() < 0.25) return;
-    last_ = now;
-    const double elapsed = seconds_since(start_);
-    const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0.0;
-    std::printf("\r%sstep %lld  t = %.4e s  %5.1f %%  ETA %.0f s   ", label, step, time, 100 * fraction, eta);
-    std::fflush(stdout);
-    printed_ = true;
-  }
-  void finish() {
-    if (printed_) std::printf("\n");
-    printed_ = false;
-  }
-
- private:
-  bool enabled_, printed_ = false;
-  Clock::time_point start_, last_;
-};
 
 // Compares v_x of every fluid particle with the series solution at the
 // particles' current time; appends the points to `csv` (rank 0) for plots.
@@ -181,29 +156,31 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     report.profile_samples.push_back({sample_time, sim.time(), e});
   };
 
-  // Permeability along the driving axis, checked at intervals of the steady-state window.
+  // Permeability along the driving axis, checked every few steps; the
+  // steady-state test compares values at least the flow's spin-up time apart.
   const bool measure_k = axis >= 0 && scene.kinematic_viscosity > 0;
-  const double window = scene.steady_window > 0 ? scene.steady_window : scene.end_time / 20;
-  SteadyStateDetector detector(window, scene.steady_tolerance);
+  double largest_side = 0;
+  for (int d = 0; d < Dim; ++d) largest_side = std::max(largest_side, scene.cell_size[d]);
+  PermeabilityMonitor<Dim> monitor(axis, scene.kinematic_viscosity, force_norm, report.porosity,
+                                   largest_side / sim.derived().sound_speed, scene.steady_window,
+                                   scene.steady_tolerance);
   if (resume_from)
-    detector.restore(resume_from->state.steady_first_time, resume_from->state.steady_times,
-                     resume_from->state.steady_values);
-  const long long check_interval = std::clamp(static_cast<long long>(window / (20 * dt)), 1LL, 100LL);
-  bool steady = false;
-  auto permeability = [&](const Vec<Dim>& u, int i) { return scene.kinematic_viscosity * u[i] / force_norm; };
+    monitor.detector().restore(resume_from->state.steady_first_time, resume_from->state.steady_times,
+                               resume_from->state.steady_values);
+  // Often enough to follow the shortest window or spin-up time (which is at
+  // most L^2 / (8 nu), the Poiseuille bound of the velocity scale), rarely
+  // enough to cost nothing.
+  const double shortest_scale = scene.steady_window > 0 ? scene.steady_window : sim.derived().length_scale *
+                                                                                    sim.derived().length_scale /
+                                                                                    (8 * scene.kinematic_viscosity);
+  const long long check_interval = std::clamp(static_cast<long long>(shortest_scale / (20 * dt)), 1LL, 100LL);
   std::ofstream history;
   if (measure_k && root) {
     const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
     history.open(options.output_dir + "/permeability_history" + suffix + ".csv", std::ios::out | open_mode);
     history.precision(10);
-    if (!resume_from) {
-      history << "step,time";
-      for (int i = 0; i < Dim; ++i) history << ",k" << "xyz"[i] << "xyz"[axis];
-      history << ",relative_change\n";
-    }
+    if (!resume_from) PermeabilityMonitor<Dim>::write_header(history, axis);
   }
-  Vec<Dim> superficial_velocity{};  // at the last check
-  bool k_measured = false;           // by a check of this run
   auto check = [&]() {
     const auto density = sim.density_statistics();
     report.max_density_variation = std::max(report.max_density_variation, density.max_variation);
@@ -212,14 +189,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     report.particles_inside_grains = std::max(report.particles_inside_grains, inside.particles);
     report.max_grain_penetration =
         std::max(report.max_grain_penetration, inside.max_depth / scene.particle_spacing);
-    if (!measure_k) return;
-    const Vec<Dim> u = superficial_velocity = sim.superficial_velocity();
-    steady = detector.add(sim.time(), permeability(u, axis));
-    k_measured = true;
-    history << sim.steps() << ',' << sim.time();
-    for (int i = 0; i < Dim; ++i) history << ',' << permeability(u, i);
-    history << ',' << detector.relative_change() << '\n';
-    history.flush();  // a long run's history is readable while it runs, and survives a kill
+    if (measure_k) monitor.sample(sim.steps(), sim.time(), sim.superficial_velocity(), root ? &history : nullptr);
   };
 
   // Fluid put back on grain surfaces: the report's count from earlier runs
@@ -251,8 +221,8 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
       for (int i = 0; i < Dim; ++i) state.completed_columns.push_back(report.permeability[i][j]);
       state.completed_columns.push_back(report.steady);
     }
-    for (const auto& [t, k] : detector.samples()) state.steady_times.push_back(t), state.steady_values.push_back(k);
-    state.steady_first_time = detector.first_time();
+    monitor.detector().save(state.steady_times, state.steady_values);
+    state.steady_first_time = monitor.detector().first_time();
     state.frame_steps = fields.frame_steps();
     state.frame_times = fields.frame_times();
     state.max_density_variation = report.max_density_variation;
@@ -299,17 +269,18 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     report.neighbours_per_particle = sim.neighbours_per_particle();
     report.channel = report.channel || channel;
     std::tie(report.grain_surface_corrections, report.max_corrected_depth) = corrections_so_far();
-    if (measure_k && k_measured) {
-      const Vec<Dim>& u = superficial_velocity;
+    if (measure_k && monitor.measured()) {
       const bool first = !report.has_permeability;
       report.has_permeability = true;
       report.driven[axis] = true;
       for (int i = 0; i < Dim; ++i) {
-        report.permeability[i][axis] = permeability(u, i);
-        if (first) report.superficial_velocity[i] = u[i];
+        report.permeability[i][axis] = monitor.permeability(i);
+        if (first) report.superficial_velocity[i] = monitor.superficial_velocity()[i];
       }
-      report.steady = (first || report.steady) && steady;
+      report.steady = (first || report.steady) && monitor.steady();
+      const auto& detector = monitor.detector();
       report.steady_relative_change = std::max(report.steady_relative_change, detector.relative_change());
+      report.steady_remaining_change = std::max(report.steady_remaining_change, detector.remaining_change());
     }
   };
   try {
@@ -322,7 +293,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
         sample_profile(samples[next_sample++]);
       if (sim.steps() % check_interval == 0) {
         check();
-        if (stop_when_steady && steady) break;
+        if (stop_when_steady && monitor.steady()) break;
       }
       if (sim.time() >= next_field_time - 0.5 * dt) {
         fields.write(sim);
@@ -339,7 +310,19 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
                                  " s; the state is in " + checkpoint_path,
                              signal_number);
       }
-      progress.update(label, sim.steps(), sim.time(), static_cast<double>(sim.steps()) / last_step);
+      if (show_progress) {
+        ProgressStatus status;
+        status.step = sim.steps();
+        status.time = sim.time();
+        status.fraction_of_end = static_cast<double>(sim.steps()) / last_step;
+        if (measure_k && monitor.measured()) {
+          status.has_permeability = true;
+          status.permeability = monitor.permeability(axis);
+          status.remaining_change = monitor.detector().remaining_change();
+          if (stop_when_steady) status.steady_time = monitor.detector().predicted_steady_time();
+        }
+        progress.update(label, status);
+      }
     }
   } catch (const SimulationFailure& failure) {
     progress.finish();
@@ -356,7 +339,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   if (channel) sample_profile(sim.time());
   if (scene.write_final_particles) write_particles_csv(sim, options.output_dir + "/particles" + suffix + ".csv");
   if (write_fields && fields.frame_steps().back() != sim.steps()) fields.write(sim);
-  record(stop_when_steady && steady ? "steady_state" : sim.steps() >= steps_to_end ? "end_time" : "max_steps",
+  record(stop_when_steady && monitor.steady() ? "steady_state" : sim.steps() >= steps_to_end ? "end_time" : "max_steps",
          loop_seconds);
   if (scene.final_checkpoint) checkpoint(true);
 }
@@ -477,7 +460,8 @@ JsonObject RunReport::to_json() const {
     json.add("permeability", k)
         .add("superficial_velocity", u)
         .add("steady", steady)
-        .add("steady_relative_change", steady_relative_change);
+        .add("steady_relative_change", steady_relative_change)
+        .add("steady_remaining_change", steady_remaining_change);
   }
   if (!failure.empty()) json.add("failure", failure);
   json.add("warnings", warnings);

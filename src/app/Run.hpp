@@ -63,7 +63,8 @@ struct RunReport {
   bool driven[3] = {false, false, false};  // which columns j were driven
   double superficial_velocity[3] = {};  // of the first driven run
   bool steady = false;                  // every driven run reached the steady-state tolerance
-  double steady_relative_change = 0;    // of k over the last window (worst over runs)
+  double steady_relative_change = 0;    // of k over the last span compared (worst over runs)
+  double steady_remaining_change = 0;   // predicted change of k still to come (worst over runs)
   bool has_grains = false;
   double porosity = 1.0;
   double reynolds_number = 0;           // mean pore velocity x mean grain diameter / nu

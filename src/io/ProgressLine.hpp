@@ -1,0 +1,68 @@
+#pragma once
+// The progress line of a run on a terminal, rewritten in place at most four
+// times a second; nothing at all when disabled (logs stay quiet). A run that
+// stops at a steady permeability shows k, what it is predicted still to
+// change, and the wall time to the predicted steady stop: a percentage of
+// End Time would say 0.3 % for a run that is nearly done.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace poresph {
+
+struct ProgressStatus {
+  long long step = 0;
+  double time = 0;               // simulated (s)
+  double fraction_of_end = 0;    // of the steps to End Time (or Max Steps)
+  bool has_permeability = false;
+  double permeability = 0;       // m^2, along the drive
+  double remaining_change = INFINITY;  // predicted relative change still to come
+  double steady_time = NAN;      // simulated time of the predicted steady stop; NaN if unknown
+};
+
+class ProgressLine {
+ public:
+  using Clock = std::chrono::steady_clock;
+  explicit ProgressLine(bool enabled) : enabled_(enabled), start_(Clock::now()), last_(start_) {}
+
+  void update(const std::string& label, const ProgressStatus& s) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_).count() < 0.25) return;
+    last_ = now;
+    if (!started_) start_time_ = s.time, start_ = now, started_ = true;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    char text[256];
+    int n = std::snprintf(text, sizeof text, "\r%sstep %lld  t = %.4e s", label.c_str(), s.step, s.time);
+    if (s.has_permeability) {
+      n += std::snprintf(text + n, sizeof text - n, "  k = %.5e m^2", s.permeability);
+      if (std::isfinite(s.remaining_change))
+        n += std::snprintf(text + n, sizeof text - n, "  to go %.2g %%", 100 * s.remaining_change);
+    }
+    const double simulated = s.time - start_time_;
+    if (std::isfinite(s.steady_time) && simulated > 0) {
+      const double eta = (s.steady_time - s.time) * elapsed / simulated;
+      n += std::snprintf(text + n, sizeof text - n, "  ETA %.0f s to steady", eta > 0 ? eta : 0.0);
+    } else {
+      const double done = s.fraction_of_end;
+      const double eta = done > 0 ? elapsed * (1 - done) / done : 0.0;
+      n += std::snprintf(text + n, sizeof text - n, "  %5.1f %% of End Time  ETA %.0f s", 100 * done, eta);
+    }
+    std::printf("%s   ", text);
+    std::fflush(stdout);
+    printed_ = true;
+  }
+
+  void finish() {
+    if (printed_) std::printf("\n");
+    printed_ = false;
+  }
+
+ private:
+  bool enabled_, printed_ = false, started_ = false;
+  Clock::time_point start_, last_;
+  double start_time_ = 0;
+};
+
+}  // namespace poresph

@@ -1,0 +1,120 @@
+// The steady-state test of a permeability (diagnostics/SteadyState.hpp) on
+// signals whose limit is known: when it stops, and that it does not stop
+// while the value still moves.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "diagnostics/SteadyState.hpp"
+
+namespace poresph {
+namespace {
+
+struct Stop {
+  bool steady = false;
+  double time = 0;
+  double value = 0;
+  double remaining = 0;  // as the detector predicted it at the stop
+};
+
+// Feeds k(t) every dt up to t_end with the given time scale; where it stops.
+Stop run(SteadyStateDetector& detector, const std::function<double(double)>& k, double dt, double t_end,
+         double time_scale) {
+  Stop s;
+  for (double t = 0; t <= t_end; t += dt) {
+    if (detector.add(t, k(t), time_scale)) return {true, t, k(t), detector.remaining_change()};
+  }
+  return s;
+}
+
+TEST(SteadyState, StopsAnExponentialApproachWithinTheTolerance) {
+  const double tau = 100, tol = 1e-3;
+  auto k = [&](double t) { return 1 - std::exp(-t / tau); };
+  SteadyStateDetector detector(0.0, tol);
+  const Stop stop = run(detector, k, 1.0, 5000, tau);
+  ASSERT_TRUE(stop.steady);
+  const double true_remaining = (1 - stop.value) / stop.value;
+  EXPECT_LE(true_remaining, tol);
+  // Not much later than needed: the first time the remaining change is
+  // within the tolerance is tau ln(1/tol) = 691; the last span adds nothing.
+  EXPECT_LT(stop.time, tau * std::log(1 / tol) + 2 * tau);
+  // The prediction is Aitken's: exact for an exponential, up to sampling.
+  EXPECT_NEAR(stop.remaining, true_remaining, 0.05 * true_remaining);
+}
+
+TEST(SteadyState, AShortWindowDoesNotStopASlowApproach) {
+  // The old test (change over a fixed window) stopped this as soon as k
+  // changed by less than 0.3 % over 200 s: at t = 1840, 1.7 % short of the limit.
+  const double tau = 670, tol = 3e-3;
+  auto k = [&](double t) { return 1 - std::exp(-t / tau); };
+  SteadyStateDetector detector(200.0, tol);
+  const Stop stop = run(detector, k, 5.0, 20000, tau);
+  ASSERT_TRUE(stop.steady);
+  EXPECT_LE((1 - stop.value) / stop.value, tol);
+  // Never steady while k moves by more than the tolerance per time scale.
+  EXPECT_LE((k(stop.time) - k(stop.time - tau)) / stop.value, tol);
+}
+
+TEST(SteadyState, ConstantIsSteadyAfterTwoSpans) {
+  SteadyStateDetector constant(10.0, 1e-3);
+  EXPECT_FALSE(constant.add(0, 1.0));
+  EXPECT_FALSE(constant.add(10, 1.0));  // three values two spans apart are needed
+  EXPECT_FALSE(constant.add(19, 1.0));
+  EXPECT_TRUE(constant.add(20, 1.0));
+  EXPECT_EQ(constant.remaining_change(), 0.0);
+}
+
+TEST(SteadyState, TheSpanFollowsTheLongerOfWindowAndTimeScale) {
+  SteadyStateDetector detector(10.0, 1e-3);
+  detector.add(0, 1.0, 50.0);
+  EXPECT_EQ(detector.span(), 50.0);
+  detector.add(1, 1.0, 5.0);
+  EXPECT_EQ(detector.span(), 10.0);
+}
+
+TEST(SteadyState, ALinearDriftIsNeverSteady) {
+  // k falling by 0.05 % per time scale: each span's change is within the
+  // tolerance, but the drift does not decay, so no limit can be predicted.
+  const double tau = 100, tol = 1e-3;
+  SteadyStateDetector detector(0.0, tol);
+  const Stop stop = run(detector, [&](double t) { return 1 - 5e-4 * t / tau; }, 1.0, 10000, tau);
+  EXPECT_FALSE(stop.steady);
+  EXPECT_TRUE(std::isinf(detector.remaining_change()));
+  EXPECT_TRUE(std::isnan(detector.predicted_steady_time()));
+}
+
+TEST(SteadyState, ADecayingOscillationStopsOnlyOnceItsSwingIsWithinTheTolerance) {
+  const double tau = 300, period = 130, tol = 1e-3;
+  auto k = [&](double t) { return 1 + 0.2 * std::exp(-t / tau) * std::cos(2 * M_PI * t / period); };
+  SteadyStateDetector detector(0.0, tol);
+  const Stop stop = run(detector, k, 1.0, 20000, 100.0);
+  ASSERT_TRUE(stop.steady);
+  EXPECT_LE(0.2 * std::exp(-stop.time / tau), 2 * tol);  // within the last swing
+}
+
+TEST(SteadyState, AnOscillationWhosePeriodIsTheSpanIsNotTakenForFlat) {
+  // Sampled a span apart, this k takes the same value three times over.
+  const double span = 100, tol = 1e-3;
+  auto k = [&](double t) { return 1 + 0.01 * std::sin(2 * M_PI * t / span); };
+  SteadyStateDetector detector(span, tol);
+  const Stop stop = run(detector, k, 1.0, 2000, 0.0);
+  EXPECT_FALSE(stop.steady);
+  EXPECT_NEAR(detector.relative_change(), 0.02, 1e-3);
+}
+
+TEST(SteadyState, PredictsWhenTheToleranceWillBeMet) {
+  const double tau = 100, tol = 1e-4;
+  auto k = [&](double t) { return 2 - std::exp(-t / tau); };
+  SteadyStateDetector detector(0.0, 1e-9);  // never stops: watch the prediction
+  for (double t = 0; t <= 400; t += 1) detector.add(t, k(t), tau);
+  SteadyStateDetector with_tolerance(0.0, tol);
+  for (double t = 0; t <= 400; t += 1) with_tolerance.add(t, k(t), tau);
+  // (k_inf - k) / k = tol at t = tau ln(1 / (2 tol)) (k near 2) = 852.
+  const double expected = tau * std::log(1 / (2 * tol));
+  EXPECT_NEAR(with_tolerance.predicted_steady_time(), expected, 5.0);
+  EXPECT_TRUE(std::isfinite(detector.predicted_steady_time()));
+}
+
+}  // namespace
+}  // namespace poresph
