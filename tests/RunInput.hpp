@@ -10,15 +10,22 @@
 
 namespace poresph::testing {
 
-inline RunReport run_input(const std::string& file, std::vector<std::string> overrides = {}) {
+// The output goes to a folder of the temporary directory named after the
+// scene, or `output` if given; `restart` names a file in that folder to
+// continue from (a checkpoint of an earlier run_input).
+inline RunReport run_input(const std::string& file, std::vector<std::string> overrides = {},
+                           const std::string& output = "", const std::string& restart = "") {
   const std::string path = std::string(PORESPH_INPUT_DIR) + "/" + file;
   overrides.push_back("Run/Progress=never");
   auto parameters = read_parameters(path, overrides);
   const SceneConfig scene = scene_from_parameters(*parameters, std::filesystem::path(path).parent_path().string());
   RunOptions options;
-  options.output_dir = (std::filesystem::temp_directory_path() / ("poresph-test-" + scene.name)).string();
+  options.output_dir =
+      (std::filesystem::temp_directory_path() / ("poresph-test-" + (output.empty() ? scene.name : output))).string();
   std::filesystem::create_directories(options.output_dir);
   options.progress_on_terminal = false;
+  if (!restart.empty()) options.restart_file = options.output_dir + "/" + restart;
+  options.parameters_xml = parameters_to_xml(*parameters);
   return run_scene(scene, options);
 }
 

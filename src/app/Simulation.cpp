@@ -47,7 +47,10 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
           "cannot choose a speed of sound: the scene has no flow scale (no body force, no moving wall, no "
           "Fluid/Velocity Scale); set Fluid/Velocity Scale or Fluid/Sound Speed");
     p.sound_speed = std::sqrt(c_sq);
-    if (scene.raise_sound_speed) {
+    // Fixed particles always raise it: their steady state does not depend on
+    // c (to O(Mach^2)), but the slowest way to it, pressure differences
+    // diffusing through the pores, runs as c^2 (docs/method.md).
+    if (scene.raise_sound_speed || scene.particle_motion == ParticleMotion::Fixed) {
       // The acoustic limit 0.25 h / c need not be smaller than the others:
       // up to there a larger c costs no steps and makes the fluid stiffer.
       const TimeStepLimits others = time_step_limits(p.smoothing_length, 0.0, nu, force_norm);
@@ -65,6 +68,10 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
     throw std::invalid_argument(msg.str());
   }
   return p;
+}
+
+bool lagrangian_shifting(const SceneConfig& scene) {
+  return scene.particle_motion == ParticleMotion::Lagrangian && scene.shifting_coefficient > 0;
 }
 
 template <int Dim>
@@ -120,11 +127,15 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
       space_(space),
       comm_(comm),
       derived_(derive_parameters(scene)),
-      particles_(scene.walls != WallType::None || !scene.grains.empty(), scene.shifting_coefficient > 0),
+      particles_(scene.walls != WallType::None || !scene.grains.empty(), lagrangian_shifting(scene)),
       kernel_(derived_.smoothing_length),
-      pair_sums_(RateComponents<Dim>::count(scene.shifting_coefficient > 0)) {
+      pair_sums_(RateComponents<Dim>::count(lagrangian_shifting(scene))) {
   if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
-  skin_ = scene.neighbour_skin * derived_.smoothing_length;
+  fixed_ = scene.particle_motion == ParticleMotion::Fixed;
+  convection_ = fixed_ && scene.convection;
+  volume_density_ = fixed_ ? scene.density : 0.0;
+  // Particles that never move need no skin: their list is exact forever.
+  skin_ = fixed_ ? 0.0 : scene.neighbour_skin * derived_.smoothing_length;
   const double support = kernel_.cutoff + skin_;  // ghosts and lists reach this far
   Decomposition<Dim> decomposition;
   if (!boxes.empty()) {
@@ -151,8 +162,12 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   reference_pressure_ =
       (1.0 - scene.background_pressure) * derived_.sound_speed * derived_.sound_speed * scene.density;
 
-  shifting_ = ShiftingParameters{scene.shifting_coefficient, derived_.smoothing_length * derived_.time_step,
-                                 0.05 * scene.particle_spacing};
+  pair_options_.shifting = ShiftingParameters{lagrangian_shifting(scene) ? scene.shifting_coefficient : 0.0,
+                                              derived_.smoothing_length * derived_.time_step,
+                                              0.05 * scene.particle_spacing};
+  pair_options_.convection = convection_;
+  extrapolate_walls_ = particles_.has_surfaces && scene.wall_pressure == WallPressure::Extrapolated;
+  pair_options_.wall_continuity = !extrapolate_walls_;
   check_grains(scene.grains, scene);
   if (!scene.grains.empty()) grain_map_ = make_grain_map<Dim, MemorySpace>(scene, kernel_.cutoff);
 
@@ -190,7 +205,19 @@ bool Simulation<Dim, ExecSpace>::moved_beyond_skin() const {
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::update_pressure_and_ghosts() {
-  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_);
+  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_,
+                  volume_density_);
+  space_.fence();
+  halo_.update(particles_);
+  update_wall_pressure();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::update_wall_pressure() {
+  if (!extrapolate_walls_) return;
+  extrapolate_wall_pressure(space_, particles_, wall_neighbours_, kernel_, body_force_,
+                            derived_.sound_speed * derived_.sound_speed, scene_.density, reference_pressure_,
+                            volume_density_);
   space_.fence();
   halo_.update(particles_);
 }
@@ -202,11 +229,13 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
     return;
   }
   // Positions stay unwrapped between builds so that ghosts and lists remain consistent.
-  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_);
+  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_,
+                  volume_density_);
   space_.fence();
   halo_.wrap(particles_);
   halo_.migrate(particles_);
   build_neighbourhood();
+  update_wall_pressure();
 }
 
 template <int Dim, class ExecSpace>
@@ -214,6 +243,7 @@ void Simulation<Dim, ExecSpace>::build_neighbourhood() {
   halo_.build(particles_);
   cells_.build(space_, particles_.x, particles_.total(), search_lo_, search_hi_, kernel_.cutoff + skin_);
   neighbours_.build(space_, cells_, particles_.x, particles_.owned, kernel_.cutoff + skin_);
+  if (extrapolate_walls_) wall_neighbours_.build(space_, cells_, particles_, kernel_.cutoff + skin_);
   pair_sums_.reserve(particles_.owned);
   const auto owned = std::make_pair(0, particles_.owned);
   if (static_cast<int>(x_at_build_.extent(0)) < particles_.owned)
@@ -227,18 +257,18 @@ void Simulation<Dim, ExecSpace>::build_neighbourhood() {
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::compute_rates() {
   refresh_neighbourhood();
-  compute_pair_rates(space_, particles_, neighbours_, pair_sums_, kernel_, fluid_, body_force_, shifting_);
+  compute_pair_rates(space_, particles_, neighbours_, pair_sums_, kernel_, fluid_, body_force_, pair_options_);
   space_.fence();
 }
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::step() {
   const double dt = derived_.time_step;
-  predict_to_midpoint(space_, particles_, dt);
+  predict_to_midpoint(space_, particles_, dt, !fixed_);
   compute_rates();
-  correct_full_step(space_, particles_, dt);
+  correct_full_step(space_, particles_, dt, !fixed_);
   if (particles_.has_shifting) apply_shifting(space_, particles_);
-  if (!grain_map_.empty()) {
+  if (!fixed_ && !grain_map_.empty()) {
     const auto pushed = fluid_in_grains(space_, particles_, grain_map_, true, 1e-6 * scene_.particle_spacing);
     surface_corrections_ += pushed.particles;
     deepest_correction_ = std::max(deepest_correction_, pushed.max_depth);
@@ -250,7 +280,7 @@ void Simulation<Dim, ExecSpace>::step() {
   ++steps_;
   time_ = steps_ * dt;  // not a running sum: no drift of the clock over 10^5 steps
   check_step();
-  if (scene_.resummation_interval > 0 && steps_ % scene_.resummation_interval == 0) {
+  if (!fixed_ && scene_.resummation_interval > 0 && steps_ % scene_.resummation_interval == 0) {
     refresh_neighbourhood();
     resum_fluid_density(space_, particles_, neighbours_, pair_sums_, kernel_);
   }
@@ -429,6 +459,7 @@ Vec<Dim> Simulation<Dim, ExecSpace>::superficial_velocity() const {
   const auto v = particles_.v;
   const auto m = particles_.m, rho = particles_.rho;
   const auto kind = particles_.kind;
+  const double volume_density = volume_density_;  // fixed particles: volume m / rho0 = dx^N
   double volume = 1.0;
   for (int d = 0; d < Dim; ++d) volume *= scene_.cell_size[d];
   Vec<Dim> result;
@@ -438,7 +469,7 @@ Vec<Dim> Simulation<Dim, ExecSpace>::superficial_velocity() const {
     Kokkos::parallel_reduce(
         label_superficial_velocity, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
         KOKKOS_LAMBDA(int i, double& sum) {
-          if (kind(i) == kFluid) sum += m(i) / rho(i) * v(i, d);
+          if (kind(i) == kFluid) sum += m(i) / (volume_density > 0 ? volume_density : rho(i)) * v(i, d);
         },
         flux);
     result[d] = comm_.sum(flux) / volume;

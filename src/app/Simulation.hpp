@@ -24,6 +24,7 @@
 #include "physics/GridInterpolation.hpp"
 #include "physics/PairRates.hpp"
 #include "physics/TimeStep.hpp"
+#include "physics/WallPressure.hpp"
 
 namespace poresph {
 
@@ -38,6 +39,9 @@ struct DerivedParameters {
 };
 
 DerivedParameters derive_parameters(const SceneConfig& scene);
+
+// Whether the scene's particles move and are shifted (Lind et al. 2012).
+bool lagrangian_shifting(const SceneConfig& scene);
 
 // The scene's sub-domains for `ranks` processes.
 template <int Dim>
@@ -137,6 +141,9 @@ class Simulation {
   bool moved_beyond_skin() const;
   // Pressure of owned particles, then the ghosts' changing fields along the recorded routes.
   void update_pressure_and_ghosts();
+  // With an extrapolated wall pressure: the owned boundary particles' from
+  // the fluid (ghosts current), then the ghosts again, so that they carry it.
+  void update_wall_pressure();
   // Halo, cells and neighbour list for the owned particles where they are now.
   void build_neighbourhood();
   // Stops the run if the step left a particle count change or an unhealthy particle.
@@ -152,6 +159,7 @@ class Simulation {
   Halo<Dim, ExecSpace> halo_;
   CellList<Dim, ExecSpace> cells_;
   NeighbourList<Dim, ExecSpace> neighbours_;
+  WallNeighbours<Dim, ExecSpace> wall_neighbours_;  // with an extrapolated wall pressure
   PairSums<ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
   double skin_ = 0.0;
   typename ParticleSet::Vector x_at_build_;  // owned positions when the list was built
@@ -163,7 +171,13 @@ class Simulation {
   long long surface_corrections_ = 0;  // on this process
   double deepest_correction_ = 0.0;
   FluidProperties fluid_;
-  ShiftingParameters shifting_;
+  // Fixed particles (Eulerian SPH): positions never change, the lists are
+  // built once, and the pair loop adds the convective term if asked.
+  bool fixed_ = false;
+  bool convection_ = false;
+  double volume_density_ = 0.0;  // rho0 for fixed particles (volumes dx^N), 0: m / rho
+  bool extrapolate_walls_ = false;  // boundary pressures from the fluid (physics/WallPressure.hpp)
+  PairLoopOptions pair_options_;
   // Subtracted from p = c^2 rho in the momentum equation. A uniform pressure
   // has no gradient, but through the SPH gradient of a sheared or disordered
   // particle arrangement it exerts spurious forces proportional to itself

@@ -66,7 +66,9 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Raise Sound Speed", false,
           "Raise c from the delta rule to the largest value the viscous and body-force time-step limits "
           "allow (0.25 h / c = the smaller of them): the same time step, a stiffer fluid whose pressure "
-          "waves settle sooner. Pays where the viscous limit sets dt (fine spacings). Not with Sound Speed.");
+          "waves settle sooner. Pays where the viscous limit sets dt (fine spacings). Not with Sound Speed. "
+          "Fixed particles (Discretization/Particle Motion) always raise c unless Sound Speed is given: their "
+          "steady state does not depend on it, and it settles sooner.");
     s.set("Velocity Scale", 0.0,
           "V for the sound-speed rule (m/s). 0: the larger of the wall speeds and |F| L^2/(8 nu).",
           real_in(0.0, kHuge));
@@ -78,22 +80,41 @@ RCP<ParameterList> make_valid_parameters() {
           "fluid is rarefied, which prevents clumping.",
           real_in(0.0, 1.0));
     s.set("Length Scale", 0.0, "L for the sound-speed rule (m). 0: the largest cell side.", real_in(0.0, kHuge));
+    s.set("Convection", true,
+          "Fixed particles: keep the convective term (v.grad)v of the Navier-Stokes equations, which lowers k "
+          "once the Reynolds number nears 1. false: Stokes flow (creeping scenes), a little cheaper. "
+          "Lagrangian particles carry convection in their own motion.");
   }
   {
     auto& s = list->sublist("Discretization", false, "Particles, kernel and time stepping.");
     s.set("Particle Spacing", 0.0, "REQUIRED. Initial lattice spacing dx (m); must divide every periodic cell side.",
           real_in(0.0, kHuge));
+    s.set("Particle Motion", std::string("fixed"),
+          "'fixed': particles stay on their lattice and only velocity, density and pressure evolve (Eulerian "
+          "SPH with the convective term, Fluid/Convection): the arrangement cannot lose its order, nothing "
+          "enters a grain, neighbour lists never change, and a steady flow stays steady. 'lagrangian': "
+          "particles move with the flow, as in Morris et al. 1999 (with Particle Shifting against disorder "
+          "near grains). docs/method.md compares them.",
+          one_of({"fixed", "lagrangian"}));
+    s.set("Wall Pressure", std::string("extrapolated"),
+          "Pressure of the boundary particles of grains and walls. 'extrapolated': from the fluid next to them "
+          "plus the body force's hydrostatic part (Adami, Hu & Adams 2012), so that a steady flow has a steady "
+          "wall. 'continuity': their own density by the continuity equation, as in Morris et al. 1999, which "
+          "past a curved surface keeps changing while the fluid flows (docs/method.md).",
+          one_of({"extrapolated", "continuity"}));
     s.set("Smoothing Length Ratio", 1.0, "h / dx of the quintic kernel (support 3h).", real_in(0.5, 3.0));
     s.set("Density Resummation Interval", 0,
-          "Re-initialise fluid density by summation every this many steps; 0 = never.", int_in(0, 1 << 30));
+          "Re-initialise fluid density by summation every this many steps; 0 = never. Lagrangian particles "
+          "only (on a fixed lattice the sum never changes).",
+          int_in(0, 1 << 30));
     s.set("Neighbour Skin", 0.2,
           "Verlet skin in units of h: neighbour lists hold pairs within 3h + skin and are rebuilt once some "
-          "particle has moved half the skin. 0 = rebuild every evaluation.",
+          "particle has moved half the skin. 0 = rebuild every evaluation. Fixed particles need none.",
           real_in(0.0, 3.0));
     s.set("Particle Shifting", 0.0,
           "Particle shifting coefficient A (Lind et al. 2012): each step fluid particles move by "
           "-A h |v| dt grad C towards uniform spacing (at most 0.05 dx), velocities corrected to first order. "
-          "0 = off. Around 1-2 for long runs past grains (docs/validation.md).",
+          "0 = off. Lagrangian particles only.",
           real_in(0.0, 100.0));
     s.set("Time Step", 0.0,
           "Fixed time step (s). 0: min(0.25 h/c, 0.125 h^2/nu, 0.25 sqrt(h/|F|)). A larger value is refused.",
@@ -125,9 +146,15 @@ RCP<ParameterList> make_valid_parameters() {
           "Drive each direction in turn with |Fluid/Body Force| and report the full tensor; otherwise drive "
           "along the body force (which must lie along one axis) and report that column.");
     s.set("Steady Tolerance", 0.0,
-          "Stop once k changed by less than this (relative) over the last Steady Window; 0 = run to End Time.",
+          "Stop once k is steady to this relative tolerance: its change over the last span and the change "
+          "still to come, predicted from the exponential approach of three values a span apart, are both "
+          "below it. The span is the larger of Steady Window and the flow's spin-up time k / (nu porosity). "
+          "0 = run to End Time.",
           real_in(0.0, 1.0));
-    s.set("Steady Window", 0.0, "Time window (s) of the steady-state test; 0 = End Time / 20.", real_in(0.0, kHuge));
+    s.set("Steady Window", 0.0,
+          "Shortest span (s) of the steady-state test; the flow's spin-up time k / (nu porosity) sets it when "
+          "longer. 0: the spin-up time alone.",
+          real_in(0.0, kHuge));
   }
   {
     auto& s = list->sublist("Run", false, "How long to run.");
@@ -379,6 +406,26 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.time_step = disc.get<double>("Time Step");
   scene.shifting_coefficient = disc.get<double>("Particle Shifting");
   scene.neighbour_skin = disc.get<double>("Neighbour Skin");
+  scene.particle_motion =
+      disc.get<std::string>("Particle Motion") == "lagrangian" ? ParticleMotion::Lagrangian : ParticleMotion::Fixed;
+  scene.convection = fluid.get<bool>("Convection");
+  scene.wall_pressure =
+      disc.get<std::string>("Wall Pressure") == "continuity" ? WallPressure::Continuity : WallPressure::Extrapolated;
+  if (scene.particle_motion == ParticleMotion::Fixed) {
+    // What only moving particles need: said, not silently dropped, since
+    // older scene files switch them on.
+    auto unused = [&](const char* name, bool given) {
+      if (given)
+        scene.warnings.push_back(std::string("Discretization/") + name +
+                                 " has no effect: Discretization/Particle Motion = fixed keeps the particles on "
+                                 "their lattice");
+    };
+    unused("Particle Shifting", scene.shifting_coefficient > 0);
+    unused("Density Resummation Interval", scene.resummation_interval > 0);
+    scene.shifting_coefficient = 0;
+    scene.resummation_interval = 0;
+    scene.neighbour_skin = 0;  // the lists are built once
+  }
 
   const auto& walls = list.sublist("Walls");
   const auto wall_type = walls.get<std::string>("Type");
@@ -420,7 +467,8 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
     scene.grains.insert(scene.grains.end(), listed.begin(), listed.end());
     scene.allow_overlapping_grains = grains.get<bool>("Allow Overlap");
     check_grains(scene.grains, scene);
-    scene.warnings = check_throats(scene.grains, scene);
+    const auto throats = check_throats(scene.grains, scene);
+    scene.warnings.insert(scene.warnings.end(), throats.begin(), throats.end());
   } catch (const std::invalid_argument& e) {
     throw ParameterError(e.what());
   }

@@ -16,6 +16,15 @@ struct Grain {
   std::string origin;  // where it was defined, for messages: "grains.txt:12", "Grains/Inline #3"
 };
 enum class ProgressMode { Auto, Always, Never };
+// How particles move. Fixed: they stay on their lattice and only velocity
+// and density evolve (an Eulerian SPH), so their arrangement cannot lose its
+// order and neighbour lists never change. Lagrangian: they move with the
+// flow, as in the paper.
+enum class ParticleMotion { Fixed, Lagrangian };
+// The pressure of boundary particles: extrapolated from the fluid next to
+// them (Adami et al. 2012), or from their own density by the continuity
+// equation (the paper).
+enum class WallPressure { Extrapolated, Continuity };
 enum class Backend { Default, Serial, OpenMP };
 
 struct SceneConfig {
@@ -33,6 +42,12 @@ struct SceneConfig {
   double velocity_scale = 0.0;  // 0: estimated (see Parameters.cpp)
   double length_scale = 0.0;    // 0: largest cell side
   double background_pressure = 0.0;  // fraction of c^2 rho0 the momentum equation keeps (1: p = c^2 rho)
+
+  ParticleMotion particle_motion = ParticleMotion::Fixed;
+  // Fixed particles: the convective term -(v.grad)v of the Navier-Stokes
+  // momentum equation (a moving particle carries it in its own motion).
+  bool convection = true;
+  WallPressure wall_pressure = WallPressure::Extrapolated;
 
   double particle_spacing = 0.0;
   double smoothing_length_ratio = 1.0;  // h / dx
@@ -79,8 +94,8 @@ struct SceneConfig {
 
   // Permeability: drive every direction in turn (full tensor) or only along the body force.
   bool permeability_tensor = false;
-  double steady_tolerance = 0.0;  // relative change of k over the window; 0 = run to the end
-  double steady_window = 0.0;     // s; 0 = End Time / 20
+  double steady_tolerance = 0.0;  // on k's change over a span and its predicted change to come; 0 = run to the end
+  double steady_window = 0.0;     // shortest span (s); the spin-up time k / (nu porosity) when longer
 };
 
 }  // namespace poresph

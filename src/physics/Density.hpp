@@ -11,17 +11,20 @@
 
 namespace poresph {
 
-// p = c^2 rho, and the factors the pair loop needs: (p - p_ref)/rho^2 and 1/rho.
+// p = c^2 rho, and the factors the pair loop needs: (p - p_ref)/rho^2 and
+// 1/rho, by which the loop turns masses into volumes. Fixed particles pass
+// volume_density = rho0: a lattice point's volume is dx^N whatever the
+// density there, which is then only the pressure's measure.
 template <int Dim, class ExecSpace>
 void update_pressure(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                     double sound_speed_sq, double reference_pressure) {
+                     double sound_speed_sq, double reference_pressure, double volume_density = 0.0) {
   const auto rho = P.rho, p = P.p, term = P.pressure_term, inverse = P.inverse_density;
   static const std::string label_update_pressure = "poresph::update_pressure";
   Kokkos::parallel_for(
       label_update_pressure, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
         p(i) = pressure_from_density(rho(i), sound_speed_sq);
         term(i) = pressure_term(p(i) - reference_pressure, rho(i));
-        inverse(i) = 1.0 / rho(i);
+        inverse(i) = 1.0 / (volume_density > 0 ? volume_density : rho(i));
       });
 }
 

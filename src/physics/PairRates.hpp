@@ -6,6 +6,9 @@
 // thread's copy of the sums (core/PairSums.hpp), so threads never race.
 #include <Kokkos_Core.hpp>
 
+#include <string>
+#include <type_traits>
+
 #include "core/NeighbourList.hpp"
 #include "core/Kernel.hpp"
 #include "core/Math.hpp"
@@ -30,6 +33,21 @@ struct FluidProperties {
   double kinematic_viscosity;
   double min_surface_distance;  // lower bound of d_a in the no-slip extrapolation
 };
+
+// What a scene adds to the three terms every pair has.
+struct PairLoopOptions {
+  ShiftingParameters shifting{};  // moving particles: towards uniform spacing
+  bool convection = false;        // fixed particles: the convective term
+  // Boundary particles integrate the continuity equation (the paper);
+  // false when their pressure is extrapolated from the fluid instead
+  // (physics/WallPressure.hpp), and their density is no state of its own.
+  bool wall_continuity = true;
+};
+
+// What the pair loop adds beyond the continuity, pressure and viscous terms:
+// the particle-shifting gradients (moving particles) or the convective term
+// (fixed particles, whose velocity is that of the flow through their point).
+enum class PairExtra { None, Shifting, Convection };
 
 // Where each rate sits among a particle's pair sums: d rho/dt, dv/dt, and
 // with particle shifting grad C and grad v (row-major, d v_i / d x_j).
@@ -80,8 +98,10 @@ struct PairRateSums {
 // WithSurfaces = false compiles the loop without any boundary-particle code:
 // a scene without walls or grains pays nothing for them. The sums are
 // finished (body force, particle shifting) after the loop by FinishRates.
-template <int Dim, class ExecSpace, bool WithSurfaces, bool WithShifting>
+template <int Dim, class ExecSpace, bool WithSurfaces, PairExtra Extra>
 struct PairRates {
+  static constexpr bool WithShifting = Extra == PairExtra::Shifting;
+  static constexpr bool WithConvection = Extra == PairExtra::Convection;
   using MemorySpace = typename ExecSpace::memory_space;
   using Components = RateComponents<Dim>;
   using Sums = PairRateSums<Dim, WithShifting>;
@@ -93,6 +113,14 @@ struct PairRates {
   PairSums<ExecSpace> sums;
   QuinticKernel<Dim> kernel;
   FluidProperties fluid;
+
+  // "poresph::PairRates<surfaces,convection>": what profiles show.
+  static std::string label() {
+    std::string extras = WithSurfaces ? "surfaces" : "";
+    const char* extra = WithShifting ? "shifting" : WithConvection ? "convection" : "";
+    if (*extra) extras += (extras.empty() ? "" : ",") + std::string(extra);
+    return "poresph::PairRates" + (extras.empty() ? std::string() : "<" + extras + ">");
+  }
 
   KOKKOS_FORCEINLINE_FUNCTION PairEnd<Dim> end_of(int i) const {
     int kind = kFluid;
@@ -136,7 +164,10 @@ struct PairRates {
     sum.drho() += other.m * t.continuity;
     if (WithSurfaces && self.kind != kFluid) return;  // boundary particles move as their surface prescribes
     const Vec<Dim> r = sign * t.r, v = sign * t.v;
-    const Vec<Dim> acceleration = other.m * (sign * t.pressure + t.viscous * viscous_velocity(other, v, r));
+    const Vec<Dim> v_seen = viscous_velocity(other, v, r);
+    Vec<Dim> acceleration = other.m * (sign * t.pressure + t.viscous * v_seen);
+    if constexpr (WithConvection)  // a boundary neighbour's velocity continues the flow linearly into the solid
+      acceleration += convective_acceleration(other.m * other.inverse_density, self.v, v_seen, r, t.F);
     for (int d = 0; d < Dim; ++d) sum.acceleration(d) += acceleration[d];
     if constexpr (WithShifting) {
       const double volume_F = other.m * other.inverse_density * t.F;  // (m/rho) grad W = volume_F r
@@ -216,10 +247,12 @@ struct FinishRates {
   PairSums<ExecSpace> sums;
   Vec<Dim> body_force;
   ShiftingParameters shifting;
+  bool wall_continuity;
 
   KOKKOS_INLINE_FUNCTION void operator()(int a) const {
     const bool a_is_fluid = P.kind(a) == kFluid;
-    P.drhodt(a) = sums.take(a, Components::density);
+    const double drhodt = sums.take(a, Components::density);
+    P.drhodt(a) = a_is_fluid || wall_continuity ? drhodt : 0.0;
     for (int d = 0; d < Dim; ++d) {
       const double pairs = sums.take(a, Components::acceleration + d);
       P.dvdt(a, d) = a_is_fluid ? pairs + body_force[d] : 0.0;
@@ -253,31 +286,38 @@ template <int Dim, class ExecSpace>
 void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
                         const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
                         const QuinticKernel<Dim>& kernel, const FluidProperties& fluid, const Vec<Dim>& body_force,
-                        const ShiftingParameters& shifting = {}) {
+                        const PairLoopOptions& options = {}) {
   const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
+  const ShiftingParameters& shifting = options.shifting;
   const bool shift = P.has_shifting && shifting.coefficient > 0;
+  const PairExtra extra = shift ? PairExtra::Shifting : options.convection ? PairExtra::Convection : PairExtra::None;
   // Each combination is its own kernel: what a scene does not use is not compiled into its loop.
-  static const std::string label_surfaces_shifting = "poresph::PairRates<surfaces,shifting>";
-  static const std::string label_surfaces = "poresph::PairRates<surfaces>";
-  static const std::string label_shifting = "poresph::PairRates<shifting>";
-  static const std::string label_plain = "poresph::PairRates";
-  if (P.has_surfaces && shift)
-    Kokkos::parallel_for(label_surfaces_shifting, policy,
-                         PairRates<Dim, ExecSpace, true, true>{P, neighbours, sums, kernel, fluid});
-  else if (P.has_surfaces)
-    Kokkos::parallel_for(label_surfaces, policy,
-                         PairRates<Dim, ExecSpace, true, false>{P, neighbours, sums, kernel, fluid});
-  else if (shift)
-    Kokkos::parallel_for(label_shifting, policy,
-                         PairRates<Dim, ExecSpace, false, true>{P, neighbours, sums, kernel, fluid});
-  else
-    Kokkos::parallel_for(label_plain, policy,
-                         PairRates<Dim, ExecSpace, false, false>{P, neighbours, sums, kernel, fluid});
+  auto run = [&](auto surfaces, auto chosen) {
+    using Rates = PairRates<Dim, ExecSpace, decltype(surfaces)::value, decltype(chosen)::value>;
+    static const std::string label = Rates::label();
+    Kokkos::parallel_for(label, policy, Rates{P, neighbours, sums, kernel, fluid});
+  };
+  using Surfaces = std::true_type;
+  using NoSurfaces = std::false_type;
+  using Shifting = std::integral_constant<PairExtra, PairExtra::Shifting>;
+  using Convection = std::integral_constant<PairExtra, PairExtra::Convection>;
+  using Plain = std::integral_constant<PairExtra, PairExtra::None>;
+  if (P.has_surfaces) {
+    if (extra == PairExtra::Shifting) run(Surfaces{}, Shifting{});
+    else if (extra == PairExtra::Convection) run(Surfaces{}, Convection{});
+    else run(Surfaces{}, Plain{});
+  } else {
+    if (extra == PairExtra::Shifting) run(NoSurfaces{}, Shifting{});
+    else if (extra == PairExtra::Convection) run(NoSurfaces{}, Convection{});
+    else run(NoSurfaces{}, Plain{});
+  }
   static const std::string label_finish = "poresph::FinishRates";
+  const bool walls = options.wall_continuity;
   if (shift)
-    Kokkos::parallel_for(label_finish, policy, FinishRates<Dim, ExecSpace, true>{P, sums, body_force, shifting});
+    Kokkos::parallel_for(label_finish, policy, FinishRates<Dim, ExecSpace, true>{P, sums, body_force, shifting, walls});
   else
-    Kokkos::parallel_for(label_finish, policy, FinishRates<Dim, ExecSpace, false>{P, sums, body_force, shifting});
+    Kokkos::parallel_for(label_finish, policy,
+                         FinishRates<Dim, ExecSpace, false>{P, sums, body_force, shifting, walls});
 }
 
 }  // namespace poresph

@@ -35,6 +35,16 @@ KOKKOS_INLINE_FUNCTION Vec<Dim> viscous_acceleration(double m_b, double nu, doub
   return (m_b * nu * (inv_rho_a + inv_rho_b) * F_ab) * v_ab;
 }
 
+// Convective acceleration -(v_a . grad) v at a, one neighbour's share, in
+// the difference form -V_b (v_b - v_a) (v_a . grad_a W_ab) with V_b the
+// neighbour's volume: zero for a uniform flow, and exact for a linear one
+// wherever the support is full (sum_b V_b r_ab (x) grad_a W_ab = -I).
+template <int Dim>
+KOKKOS_INLINE_FUNCTION Vec<Dim> convective_acceleration(double V_b, const Vec<Dim>& v_a, const Vec<Dim>& v_ab,
+                                                        const Vec<Dim>& r_ab, double F_ab) {
+  return (V_b * F_ab * dot(v_a, r_ab)) * v_ab;
+}
+
 // Weakly compressible equation of state of the paper: p = c^2 rho.
 KOKKOS_INLINE_FUNCTION double pressure_from_density(double rho, double sound_speed_sq) { return sound_speed_sq * rho; }
 

@@ -9,9 +9,10 @@
 
 namespace poresph {
 
+// move = false: fixed particles, whose positions never change (Eulerian SPH).
 template <int Dim, class ExecSpace>
 void predict_to_midpoint(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                         double dt) {
+                         double dt, bool move = true) {
   const auto Q = P;
   const double half = 0.5 * dt;
   static const std::string label_predict_to_midpoint = "poresph::predict_to_midpoint";
@@ -21,7 +22,7 @@ void predict_to_midpoint(const ExecSpace& space, const Particles<Dim, typename E
         for (int d = 0; d < Dim; ++d) {
           Q.x_start(i, d) = Q.x(i, d);
           Q.v_start(i, d) = Q.v(i, d);
-          Q.x(i, d) += half * Q.v(i, d);
+          if (move) Q.x(i, d) += half * Q.v(i, d);
           if (fluid) Q.v(i, d) += half * Q.dvdt(i, d);
         }
         Q.rho_start(i) = Q.rho(i);
@@ -31,7 +32,7 @@ void predict_to_midpoint(const ExecSpace& space, const Particles<Dim, typename E
 
 template <int Dim, class ExecSpace>
 void correct_full_step(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                       double dt) {
+                       double dt, bool move = true) {
   const auto Q = P;
   static const std::string label_correct_full_step = "poresph::correct_full_step";
   Kokkos::parallel_for(
@@ -42,7 +43,7 @@ void correct_full_step(const ExecSpace& space, const Particles<Dim, typename Exe
           const double v_end = fluid ? v_start + dt * Q.dvdt(i, d) : v_start;
           Q.v(i, d) = v_end;
           // Trapezoidal positions: second order, and exact for boundary particles.
-          Q.x(i, d) = Q.x_start(i, d) + 0.5 * dt * (v_start + v_end);
+          if (move) Q.x(i, d) = Q.x_start(i, d) + 0.5 * dt * (v_start + v_end);
         }
         Q.rho(i) = Q.rho_start(i) + dt * Q.drhodt(i);
       });

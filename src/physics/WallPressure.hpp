@@ -1,0 +1,131 @@
+#pragma once
+// The pressure of boundary particles extrapolated from the fluid around them
+// (Adami, Hu & Adams, J. Comput. Phys. 231, 2012, eq. 27):
+//   p_w = (sum_f p_f W_wf + (F - a_w) . sum_f rho_f r_wf W_wf) / sum_f W_wf,
+// r_wf = x_w - x_f, over the fluid particles f within the support, F the
+// body acceleration, a_w = 0 for the walls and grains here. The wall then
+// pushes back on the fluid with the pressure the fluid has next to it, plus
+// the hydrostatic part of the body force across the gap.
+//
+// Why: evolved by the continuity equation, as in the paper, a boundary
+// particle's density integrates sum_f m_f (v_w - v_f) . grad W, which a
+// steady flow past a curved surface does not bring to zero; the wall
+// pressure then creeps on for as long as the run goes, and k with it
+// (docs/method.md, "A steady state that stays"). Extrapolated, the wall has
+// no state of its own, so the scheme has a true steady state.
+#include <Kokkos_Core.hpp>
+
+#include <string>
+
+#include "core/CellList.hpp"
+#include "core/Kernel.hpp"
+#include "core/Math.hpp"
+#include "core/Particles.hpp"
+#include "core/Vec.hpp"
+#include "physics/PairTerms.hpp"
+
+namespace poresph {
+
+// The wall pressure of one boundary particle from the three sums above;
+// `fallback` where no fluid is in reach (such a particle touches no fluid).
+KOKKOS_INLINE_FUNCTION double extrapolated_wall_pressure(double sum_w, double sum_pw, double force_dot_sum_rho_r_w,
+                                                         double fallback) {
+  return sum_w > 0 ? (sum_pw + force_dot_sum_rho_r_w) / sum_w : fallback;
+}
+
+// For each owned boundary particle, the fluid particles (owned or ghost)
+// within a radius: built with the neighbour list, from the same cell list.
+template <int Dim, class ExecSpace>
+class WallNeighbours {
+ public:
+  using MemorySpace = typename ExecSpace::memory_space;
+  using IndexView = Kokkos::View<int*, MemorySpace>;
+
+  void build(const ExecSpace& space, const CellList<Dim, ExecSpace>& cells,
+             const Particles<Dim, MemorySpace>& P, double radius) {
+    const int owned = P.owned;
+    if (static_cast<int>(offsets_.extent(0)) < owned + 1)
+      offsets_ = IndexView("WallNeighbours::offsets", owned + owned / 4 + 1);
+    const auto offsets = offsets_;
+    const auto x = P.x;
+    const auto kind = P.kind;
+    const double radius_sq = radius * radius;
+    auto for_each_fluid_neighbour = [=](int i, auto&& f) {
+      const Vec<Dim> xi = row<Dim>(x, i);
+      cells.for_each_candidate(xi, [&](int j) {
+        const Vec<Dim> r = xi - row<Dim>(x, j);
+        if (kind(j) == kFluid && dot(r, r) < radius_sq) f(j);
+      });
+    };
+    static const std::string label_count = "poresph::WallNeighbours::count";
+    Kokkos::parallel_for(
+        label_count, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
+          int n = 0;
+          if (kind(i) != kFluid) for_each_fluid_neighbour(i, [&](int) { ++n; });
+          offsets(i + 1) = n;
+        });
+    int total = 0;
+    static const std::string label_offsets = "poresph::WallNeighbours::offsets";
+    Kokkos::parallel_scan(
+        label_offsets, Kokkos::RangePolicy<ExecSpace>(space, 0, owned + 1),
+        KOKKOS_LAMBDA(int i, int& running, bool final) {
+          running += i == 0 ? 0 : offsets(i);
+          if (final) offsets(i) = running;
+        },
+        total);
+    if (static_cast<int>(indices_.extent(0)) < total)
+      indices_ = IndexView("WallNeighbours::indices", total + total / 4 + 1);
+    const auto indices = indices_;
+    static const std::string label_fill = "poresph::WallNeighbours::fill";
+    Kokkos::parallel_for(
+        label_fill, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
+          int k = offsets(i);
+          if (kind(i) != kFluid) for_each_fluid_neighbour(i, [&](int j) { indices(k++) = j; });
+        });
+    space.fence();
+  }
+
+  KOKKOS_INLINE_FUNCTION int begin(int i) const { return offsets_(i); }
+  KOKKOS_INLINE_FUNCTION int end(int i) const { return offsets_(i + 1); }
+  KOKKOS_INLINE_FUNCTION int neighbour(int k) const { return indices_(k); }
+
+ private:
+  IndexView offsets_, indices_;
+};
+
+// Sets p, rho = p / c^2 and the pair loop's factors of every owned boundary
+// particle from the fluid around it (fluid pressures, owned and ghost, must
+// be current). reference_pressure and volume_density as in update_pressure
+// (physics/Density.hpp); without fluid in reach, the rest pressure c^2 rho0.
+template <int Dim, class ExecSpace>
+void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                               const WallNeighbours<Dim, ExecSpace>& walls, const QuinticKernel<Dim>& kernel,
+                               const Vec<Dim>& body_force, double sound_speed_sq, double rest_density,
+                               double reference_pressure, double volume_density) {
+  const auto Q = P;
+  static const std::string label = "poresph::extrapolate_wall_pressure";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int w) {
+        if (Q.kind(w) == kFluid) return;
+        const Vec<Dim> x_w = row<Dim>(Q.x, w);
+        double sum_w = 0, sum_pw = 0;
+        Vec<Dim> sum_rho_r_w = Vec<Dim>::zero();
+        for (int k = walls.begin(w); k < walls.end(w); ++k) {
+          const int f = walls.neighbour(k);
+          const Vec<Dim> r = x_w - row<Dim>(Q.x, f);
+          const double W = kernel.value(math::sqrt(dot(r, r)));
+          sum_w += W;
+          sum_pw += Q.p(f) * W;
+          sum_rho_r_w += (Q.rho(f) * W) * r;
+        }
+        const double p =
+            extrapolated_wall_pressure(sum_w, sum_pw, dot(body_force, sum_rho_r_w), sound_speed_sq * rest_density);
+        const double rho = p / sound_speed_sq;
+        Q.p(w) = p;
+        Q.rho(w) = rho;
+        Q.pressure_term(w) = pressure_term(p - reference_pressure, rho);
+        Q.inverse_density(w) = 1.0 / (volume_density > 0 ? volume_density : rho);
+      });
+}
+
+}  // namespace poresph
