@@ -187,6 +187,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
 template <int Dim, class ExecSpace>
 bool Simulation<Dim, ExecSpace>::moved_beyond_skin() const {
   if (!built_) return true;
+  if (fixed_) return false;
   const auto x = particles_.x;
   const auto x0 = x_at_build_;
   const double limit_sq = 0.25 * skin_ * skin_;
@@ -243,6 +244,7 @@ void Simulation<Dim, ExecSpace>::build_neighbourhood() {
   halo_.build(particles_);
   cells_.build(space_, particles_.x, particles_.total(), search_lo_, search_hi_, kernel_.cutoff + skin_);
   neighbours_.build(space_, cells_, particles_.x, particles_.owned, kernel_.cutoff + skin_);
+  if (fixed_) neighbours_.cache_geometry(space_, particles_.x, particles_.owned, kernel_);
   if (extrapolate_walls_) wall_neighbours_.build(space_, cells_, particles_, kernel_.cutoff + skin_);
   pair_sums_.reserve(particles_.owned);
   const auto owned = std::make_pair(0, particles_.owned);

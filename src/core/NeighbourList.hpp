@@ -13,7 +13,10 @@
 // end to update without a test per pair.
 #include <Kokkos_Core.hpp>
 
+#include <string>
+
 #include "core/CellList.hpp"
+#include "core/Math.hpp"
 #include "core/Vec.hpp"
 
 namespace poresph {
@@ -73,6 +76,7 @@ class NeighbourList {
         });
     space.fence();
     pairs_ = total;
+    cached_ = false;
     // Neighbours per particle as a full list would have them: the half list
     // holds each pair of owned particles once.
     static const std::string label_owned_pairs = "poresph::NeighbourList::owned_pairs";
@@ -95,11 +99,41 @@ class NeighbourList {
   KOKKOS_INLINE_FUNCTION int end(int i) const { return offsets_(i + 1); }
   KOKKOS_INLINE_FUNCTION int neighbour(int k) const { return indices_(k); }
 
+  // Fixed particles: the separation r_ab and F_ab = (1/r) dW/dr of every
+  // entry, computed once after the build, so that the pair loop streams them
+  // instead of gathering positions and evaluating the kernel at each step.
+  // The list must hold no entry beyond the kernel's support (no skin).
+  template <class PositionView, class Kernel>
+  void cache_geometry(const ExecSpace& space, const PositionView& x, int owned, const Kernel& kernel) {
+    if (static_cast<long long>(geometry_.extent(0)) < pairs_)
+      geometry_ = GeometryView("NeighbourList::geometry", pairs_);
+    const auto offsets = offsets_, indices = indices_;
+    const auto geometry = geometry_;
+    static const std::string label = "poresph::NeighbourList::cache_geometry";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
+          const Vec<Dim> xi = row<Dim>(x, i);
+          for (int k = offsets(i); k < offsets(i + 1); ++k) {
+            const Vec<Dim> r = xi - row<Dim>(x, indices(k));
+            for (int d = 0; d < Dim; ++d) geometry(k, d) = r[d];
+            geometry(k, Dim) = kernel.derivative_over_r(math::sqrt(dot(r, r)));
+          }
+        });
+    space.fence();
+    cached_ = true;
+  }
+  bool has_geometry() const { return cached_; }
+  KOKKOS_INLINE_FUNCTION double separation(int k, int d) const { return geometry_(k, d); }
+  KOKKOS_INLINE_FUNCTION double derivative_over_r(int k) const { return geometry_(k, Dim); }
+
   long long pairs() const { return pairs_; }  // entries of the list
   double neighbours_per_particle() const { return neighbours_per_particle_; }
 
  private:
+  using GeometryView = Kokkos::View<double* [Dim + 1], Kokkos::LayoutRight, MemorySpace>;
   IndexView offsets_, ghosts_begin_, indices_;
+  GeometryView geometry_;
+  bool cached_ = false;
   long long pairs_ = 0;
   double neighbours_per_particle_ = 0;
 };

@@ -113,6 +113,7 @@ struct PairRates {
   PairSums<ExecSpace> sums;
   QuinticKernel<Dim> kernel;
   FluidProperties fluid;
+  bool cached;  // the list carries each pair's separation and F (fixed particles)
 
   // "poresph::PairRates<surfaces,convection>": what profiles show.
   static std::string label() {
@@ -225,13 +226,37 @@ struct PairRates {
     }
   }
 
+  // The same with the separations and F of a fixed arrangement, cached in
+  // the list: no gather of positions, no kernel evaluation.
+  template <bool BothEnds>
+  KOKKOS_FORCEINLINE_FUNCTION void add_cached_pairs(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int first,
+                                                    int last) const {
+    for (int k = first; k < last; ++k) {
+      Vec<Dim> r;
+      for (int d = 0; d < Dim; ++d) r[d] = neighbours.separation(k, d);
+      const PairEnd<Dim> end_b = end_of(neighbours.neighbour(k));
+      const SharedPairTerms<Dim> t = shared_terms(end_a, end_b, r, neighbours.derivative_over_r(k));
+      add(sum_a, end_a, end_b, t, 1.0);
+      if constexpr (BothEnds) {
+        Sums sum_b;
+        add(sum_b, end_b, end_a, t, -1.0);
+        for (int c = 0; c < Sums::count; ++c) sums.add(copy, end_b.index, c, sum_b.value[c]);
+      }
+    }
+  }
+
   KOKKOS_INLINE_FUNCTION void operator()(int a) const {
     const PairEnd<Dim> end_a = end_of(a);
     Sums sum_a;
     const int copy = sums.acquire();
     const int ghosts_begin = neighbours.ghosts_begin(a);
-    add_pairs<true>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);  // owned neighbours
-    add_pairs<false>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));   // ghosts
+    if (cached) {
+      add_cached_pairs<true>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);
+      add_cached_pairs<false>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));
+    } else {
+      add_pairs<true>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);  // owned neighbours
+      add_pairs<false>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));   // ghosts
+    }
     for (int c = 0; c < Sums::count; ++c) sums.add(copy, a, c, sum_a.value[c]);
     sums.release(copy);
   }
@@ -295,7 +320,7 @@ void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename Ex
   auto run = [&](auto surfaces, auto chosen) {
     using Rates = PairRates<Dim, ExecSpace, decltype(surfaces)::value, decltype(chosen)::value>;
     static const std::string label = Rates::label();
-    Kokkos::parallel_for(label, policy, Rates{P, neighbours, sums, kernel, fluid});
+    Kokkos::parallel_for(label, policy, Rates{P, neighbours, sums, kernel, fluid, neighbours.has_geometry()});
   };
   using Surfaces = std::true_type;
   using NoSurfaces = std::false_type;
