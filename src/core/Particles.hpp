@@ -35,6 +35,11 @@ struct Particles {
   // Surface of each boundary particle; empty in a scene without walls or grains.
   Vector wall_vector;
   Scalar wall_scalar;
+  // Fixed particles next to a surface (owned slots): the no-slip drag
+  // coefficient kappa of dv/dt = a - kappa v, kept apart from the rates so
+  // that the step integrates it exactly (physics/PredictorCorrector.hpp);
+  // empty in a scene without walls or grains.
+  Scalar wall_drag;
   // Particle shifting (owned slots): displacement towards uniform spacing and
   // the velocity change that carries the field along; empty when not enabled.
   Vector shift, shift_velocity;
@@ -66,6 +71,7 @@ struct Particles {
   void for_each_owned_field(F&& f) const {
     for_each_ghost_field(f);
     f(x_start), f(v_start), f(dvdt), f(rho_start), f(drhodt);
+    if (has_surfaces) f(wall_drag);
     if (has_shifting) f(shift), f(shift_velocity);
   }
   int capacity() const { return static_cast<int>(x.extent(0)); }
@@ -87,7 +93,9 @@ struct Particles {
     grow(kind, "kind"); grow(id, "id");
     grow(x_start, "x_start"); grow(v_start, "v_start"); grow(dvdt, "dvdt");
     grow(rho_start, "rho_start"); grow(drhodt, "drhodt");
-    if (has_surfaces) { grow(wall_vector, "wall_vector"); grow(wall_scalar, "wall_scalar"); }
+    if (has_surfaces) {
+      grow(wall_vector, "wall_vector"); grow(wall_scalar, "wall_scalar"); grow(wall_drag, "wall_drag");
+    }
     if (has_shifting) {
       grow(shift, "shift"); grow(shift_velocity, "shift_velocity");
     }

@@ -32,6 +32,11 @@ struct ShiftingParameters {
 struct FluidProperties {
   double kinematic_viscosity;
   double min_surface_distance;  // lower bound of d_a in the no-slip extrapolation
+  // The viscous pull of boundary neighbours, kappa (v_a - u_w), split into
+  // kappa (the particle's wall_drag, integrated exactly by the step) and the
+  // wall's kappa u_w (a rate like the others). With it d_a needs no bound of
+  // sqrt(3)/4 dx against a stiff kappa: fixed particles use it.
+  bool separate_wall_drag = false;
 };
 
 // What a scene adds to the three terms every pair has.
@@ -50,14 +55,16 @@ struct PairLoopOptions {
 enum class PairExtra { None, Shifting, Convection };
 
 // Where each rate sits among a particle's pair sums: d rho/dt, dv/dt, and
-// with particle shifting grad C and grad v (row-major, d v_i / d x_j).
+// with particle shifting grad C and grad v (row-major, d v_i / d x_j), or
+// without it the wall drag (FluidProperties::separate_wall_drag).
 template <int Dim>
 struct RateComponents {
   static constexpr int density = 0;
   static constexpr int acceleration = 1;
+  static constexpr int wall_drag = 1 + Dim;
   static constexpr int grad_concentration = 1 + Dim;
   static constexpr int grad_velocity = 1 + 2 * Dim;
-  static constexpr int count(bool shifting) { return shifting ? 1 + 2 * Dim + Dim * Dim : 1 + Dim; }
+  static constexpr int count(bool shifting) { return shifting ? 1 + 2 * Dim + Dim * Dim : 2 + Dim; }
 };
 
 // What the pair loop reads of one particle.
@@ -87,6 +94,7 @@ struct PairRateSums {
   double value[count] = {};
   KOKKOS_FORCEINLINE_FUNCTION double& drho() { return value[Components::density]; }
   KOKKOS_FORCEINLINE_FUNCTION double& acceleration(int d) { return value[Components::acceleration + d]; }
+  KOKKOS_FORCEINLINE_FUNCTION double& wall_drag() { return value[Components::wall_drag]; }
   KOKKOS_FORCEINLINE_FUNCTION double& grad_concentration(int d) { return value[Components::grad_concentration + d]; }
   KOKKOS_FORCEINLINE_FUNCTION double& grad_velocity(int i, int j) {
     return value[Components::grad_velocity + i * Dim + j];
@@ -142,20 +150,18 @@ struct PairRates {
     return t;
   }
 
-  // The viscous velocity difference fluid particle `self` sees for `other`
-  // at separation r, velocity difference v: v itself, or for a boundary
-  // particle its no-slip extrapolation.
-  KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> viscous_velocity(const PairEnd<Dim>& other, const Vec<Dim>& v,
-                                                        const Vec<Dim>& r) const {
+  // The no-slip factor 1 + d_B / d_a of a boundary particle `other` seen at
+  // separation r (physics/NoSlip.hpp); 1 for a fluid particle.
+  KOKKOS_FORCEINLINE_FUNCTION double viscous_factor(const PairEnd<Dim>& other, const Vec<Dim>& r) const {
     if constexpr (WithSurfaces) {
       if (other.kind != kFluid) {
         const SurfaceDistances<Dim> s = surface_distances<Dim>(other.kind, row<Dim>(P.wall_vector, other.index),
                                                                P.wall_scalar(other.index), r);
-        return no_slip_factor(s, fluid.min_surface_distance) * v;
+        return no_slip_factor(s, fluid.min_surface_distance);
       }
     }
     (void)other, (void)r;
-    return v;
+    return 1.0;
   }
 
   // Adds to `sum` what `self` gains from `other`; sign = +1 when self is the
@@ -165,8 +171,19 @@ struct PairRates {
     sum.drho() += other.m * t.continuity;
     if (WithSurfaces && self.kind != kFluid) return;  // boundary particles move as their surface prescribes
     const Vec<Dim> r = sign * t.r, v = sign * t.v;
-    const Vec<Dim> v_seen = viscous_velocity(other, v, r);
-    Vec<Dim> acceleration = other.m * (sign * t.pressure + t.viscous * v_seen);
+    // v as self sees it: for a boundary neighbour, the fluid velocity
+    // relative to the wall's continued linearly into the solid.
+    const double factor = viscous_factor(other, r);
+    const Vec<Dim> v_seen = factor * v;
+    Vec<Dim> acceleration = (other.m * sign) * t.pressure;
+    if (WithSurfaces && !WithShifting && fluid.separate_wall_drag && other.kind != kFluid) {
+      // other.m t.viscous factor (v_self - v_other) = -kappa_ab (v_self - v_other)
+      const double kappa = -other.m * t.viscous * factor;
+      sum.wall_drag() += kappa;
+      acceleration += kappa * other.v;
+    } else {
+      acceleration += (other.m * t.viscous) * v_seen;
+    }
     if constexpr (WithConvection)  // a boundary neighbour's velocity continues the flow linearly into the solid
       acceleration += convective_acceleration(other.m * other.inverse_density, self.v, v_seen, r, t.F);
     for (int d = 0; d < Dim; ++d) sum.acceleration(d) += acceleration[d];
@@ -278,6 +295,10 @@ struct FinishRates {
     const bool a_is_fluid = P.kind(a) == kFluid;
     const double drhodt = sums.take(a, Components::density);
     P.drhodt(a) = a_is_fluid || wall_continuity ? drhodt : 0.0;
+    if constexpr (!WithShifting) {
+      const double drag = sums.take(a, Components::wall_drag);  // taken always: the copies return to zero
+      if (P.has_surfaces) P.wall_drag(a) = a_is_fluid ? drag : 0.0;
+    }
     for (int d = 0; d < Dim; ++d) {
       const double pairs = sums.take(a, Components::acceleration + d);
       P.dvdt(a, d) = a_is_fluid ? pairs + body_force[d] : 0.0;

@@ -5,25 +5,39 @@
 // their surface's prescribed velocity and keep it.
 #include <Kokkos_Core.hpp>
 
+#include "core/Math.hpp"
 #include "core/Particles.hpp"
 
 namespace poresph {
 
+// v after a time tau of dv/dt = a - kappa v with a and kappa constant:
+// v e^{-kappa tau} + a (1 - e^{-kappa tau}) / kappa, exact however large
+// kappa tau is (the drag of a wall a hair away), and v + a tau at kappa = 0.
+KOKKOS_INLINE_FUNCTION double velocity_after(double v, double a, double kappa, double tau) {
+  if (!(kappa > 0)) return v + a * tau;
+  return v * math::exp(-kappa * tau) - a * math::expm1(-kappa * tau) / kappa;
+}
+
 // move = false: fixed particles, whose positions never change (Eulerian SPH).
+// wall_drag: the particles carry a drag coefficient kappa apart from their
+// acceleration (physics/PairRates.hpp, FluidProperties::separate_wall_drag),
+// integrated exactly over each stage.
 template <int Dim, class ExecSpace>
 void predict_to_midpoint(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                         double dt, bool move = true) {
+                         double dt, bool move = true, bool wall_drag = false) {
   const auto Q = P;
   const double half = 0.5 * dt;
+  const bool drag = wall_drag && P.has_surfaces;
   static const std::string label_predict_to_midpoint = "poresph::predict_to_midpoint";
   Kokkos::parallel_for(
       label_predict_to_midpoint, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
         const bool fluid = Q.kind(i) == kFluid;
+        const double kappa = drag ? Q.wall_drag(i) : 0.0;
         for (int d = 0; d < Dim; ++d) {
           Q.x_start(i, d) = Q.x(i, d);
           Q.v_start(i, d) = Q.v(i, d);
           if (move) Q.x(i, d) += half * Q.v(i, d);
-          if (fluid) Q.v(i, d) += half * Q.dvdt(i, d);
+          if (fluid) Q.v(i, d) = velocity_after(Q.v(i, d), Q.dvdt(i, d), kappa, half);
         }
         Q.rho_start(i) = Q.rho(i);
         Q.rho(i) += half * Q.drhodt(i);
@@ -32,15 +46,17 @@ void predict_to_midpoint(const ExecSpace& space, const Particles<Dim, typename E
 
 template <int Dim, class ExecSpace>
 void correct_full_step(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                       double dt, bool move = true) {
+                       double dt, bool move = true, bool wall_drag = false) {
   const auto Q = P;
+  const bool drag = wall_drag && P.has_surfaces;
   static const std::string label_correct_full_step = "poresph::correct_full_step";
   Kokkos::parallel_for(
       label_correct_full_step, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
         const bool fluid = Q.kind(i) == kFluid;
+        const double kappa = drag ? Q.wall_drag(i) : 0.0;
         for (int d = 0; d < Dim; ++d) {
           const double v_start = Q.v_start(i, d);
-          const double v_end = fluid ? v_start + dt * Q.dvdt(i, d) : v_start;
+          const double v_end = fluid ? velocity_after(v_start, Q.dvdt(i, d), kappa, dt) : v_start;
           Q.v(i, d) = v_end;
           // Trapezoidal positions: second order, and exact for boundary particles.
           if (move) Q.x(i, d) = Q.x_start(i, d) + 0.5 * dt * (v_start + v_end);
