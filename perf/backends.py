@@ -22,7 +22,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from poresph_runs import CORES, ROOT, openmp_env, poresph_command, read_summary, run_poresph  # noqa: E402
+from poresph_runs import CORES, ROOT, moving_particles, openmp_env, poresph_command, read_summary, run_poresph  # noqa: E402
 
 CEILING = "2 Serial runs at once (ceiling)"
 CONFIGS = [  # label, ranks, backend, threads
@@ -36,8 +36,10 @@ SCENES = {"I": "problem1/problem1.xml", "III": "problem3/problem3.xml"}
 
 
 def settings(args, dx, backend, threads):
+    # Moving particles, as in the figures of docs/performance.md (sessions 4-5).
     return [f"Discretization/Particle Spacing={dx!r}", f"Run/Max Steps={args.steps}",
-            "Permeability/Steady Tolerance=0", f"Run/Backend={backend}", f"Run/Threads={threads}"]
+            "Permeability/Steady Tolerance=0", f"Run/Backend={backend}", f"Run/Threads={threads}"] + \
+        moving_particles(args.build)
 
 
 def run(args, scene, dx, ranks, backend, threads, k):

@@ -1,17 +1,17 @@
 #!/usr/bin/python3
 """The hard cases of input/hard/ (and the lowest-porosity square arrays),
-each with and without the stability remedies a scene can switch on:
-particle shifting (Discretization/Particle Shifting) and density
-re-summation (Discretization/Density Resummation Interval).
+with PoreSPH's default (fixed particles, docs/method.md) and, where they
+tell something, with moving particles as in the paper and the remedies
+those need: particle shifting (Discretization/Particle Shifting) and
+density re-summation (Discretization/Density Resummation Interval).
 
-    perf/hard_cases.py [--build build] [--out build/hard-cases] [--quick]
+    perf/hard_cases.py [--build build] [--out build/hard-cases] [--quick] [--only TEXT] [--ranks N]
 
 Writes hard_cases.csv into --out and prints the Markdown table for
 docs/hard_cases.md: what ran, the largest density variation, fluid particles
 found inside grains (and how many were put back on a surface), k against its
 reference, steps, wall time and how the run ended. --quick leaves out the
-throat and touching-grain runs (15-20 minutes each; the throat at 4 dx,
-about two hours on two ranks).
+throat and touching-grain runs (the throat at 4 dx takes about an hour).
 """
 import argparse
 import os
@@ -21,6 +21,11 @@ from poresph_runs import ROOT, run_poresph, write_csv
 
 L = 0.1
 SANGANI_ACRIVOS = {0.2: 1 / 51.53, 0.6: 1 / 1763, 0.7: 1 / 13520}
+# Steady Navier-Stokes k/L^2 of hard/high_force.xml from finite elements
+# (perf/stokes_reference.py --equations navier-stokes --grain 0.05 0.05
+# 0.0252313252202016 --force 7.5e-8 --segments 50 100 200, extrapolated;
+# docs/validation.md): inertia lowers it 0.07 % below the Stokes value.
+HIGH_FORCE_NAVIER_STOKES = 0.019394
 
 # k/L^2 along the force (kyy) of the throat scenes from finite elements,
 # Richardson-extrapolated from meshes of 4, 2 and 1 mm whose grain
@@ -32,31 +37,35 @@ SANGANI_ACRIVOS = {0.2: 1 / 51.53, 0.6: 1 / 1763, 0.7: 1 / 13520}
 # 2e-5 m at the 2 mm mesh (-0.25 %).
 FINITE_ELEMENT = {"throat": 2.63760e-3, "touching": 2.32940e-3}
 
-# (case, scene, settings, reference k/L^2 or None, what the reference is)
-NO_SHIFTING = ["Discretization/Particle Shifting=0"]
+# Moving particles as in the paper, with or without the remedies they need.
+MOVING = ["Discretization/Particle Motion=lagrangian", "Discretization/Wall Pressure=continuity"]
+SHIFTING = ["Discretization/Particle Shifting=4"]
 RESUM = ["Discretization/Density Resummation Interval=20"]
 
 
 def cases(quick):
+    """(case, scene, settings, reference k/L^2 or the name of a computed one, what the reference is)"""
     c20 = SANGANI_ACRIVOS[0.2]
+    nse = HIGH_FORCE_NAVIER_STOKES
     rows = [
         ("grain across the corner", "hard/corner_grain.xml", [], "centred", "the centred grain, same dx"),
-        ("grain across the corner, no shifting", "hard/corner_grain.xml", NO_SHIFTING, "centred-noshift",
-         "the centred grain, same dx"),
-        ("Re about 1 (F x 5)", "hard/high_force.xml", [], c20, "Sangani-Acrivos (creeping flow)"),
-        ("Re about 1 (F x 5), no shifting", "hard/high_force.xml", NO_SHIFTING, c20, "Sangani-Acrivos (creeping flow)"),
-        ("Re about 1 (F x 5), re-summation", "hard/high_force.xml", RESUM, c20, "Sangani-Acrivos (creeping flow)"),
-        ("long run, 1e5 steps, re-summation every 20", "hard/long_run.xml", [], c20, "Sangani-Acrivos"),
-        ("long run, 1e5 steps, no re-summation", "hard/long_run.xml",
-         ["Discretization/Density Resummation Interval=0"], c20, "Sangani-Acrivos"),
-        ("long run, 1e5 steps, no re-summation, no shifting", "hard/long_run.xml",
-         ["Discretization/Density Resummation Interval=0"] + NO_SHIFTING, c20, "Sangani-Acrivos"),
+        ("grain across the corner, moving particles, shifting", "hard/corner_grain.xml", MOVING + SHIFTING,
+         "centred-moving", "the centred grain, same dx and scheme"),
+        ("Re about 1 (F x 5)", "hard/high_force.xml", [], nse, "Navier-Stokes FE"),
+        ("Re about 1 (F x 5), moving particles, shifting", "hard/high_force.xml", MOVING + SHIFTING, nse,
+         "Navier-Stokes FE"),
+        ("Re about 1 (F x 5), moving particles, no shifting", "hard/high_force.xml", MOVING, nse, "Navier-Stokes FE"),
+        ("long run, 1e5 steps", "hard/long_run.xml", [], c20, "Sangani-Acrivos"),
+        ("long run, 1e5 steps, moving particles, shifting, re-summation every 20", "hard/long_run.xml",
+         MOVING + SHIFTING + RESUM, c20, "Sangani-Acrivos"),
+        ("long run, 1e5 steps, moving particles, shifting, no re-summation", "hard/long_run.xml", MOVING + SHIFTING,
+         c20, "Sangani-Acrivos"),
         ("solid fraction 0.6", "square_array/square_array_c60.xml", ["Discretization/Particle Spacing=0.001"],
          SANGANI_ACRIVOS[0.6], "Sangani-Acrivos"),
         ("solid fraction 0.7", "square_array/square_array_c70.xml", ["Discretization/Particle Spacing=0.001"],
          SANGANI_ACRIVOS[0.7], "Sangani-Acrivos"),
-        ("solid fraction 0.7, no shifting", "square_array/square_array_c70.xml",
-         ["Discretization/Particle Spacing=0.001"] + NO_SHIFTING, SANGANI_ACRIVOS[0.7], "Sangani-Acrivos"),
+        ("solid fraction 0.7, moving particles, shifting", "square_array/square_array_c70.xml",
+         ["Discretization/Particle Spacing=0.001"] + MOVING + SHIFTING, SANGANI_ACRIVOS[0.7], "Sangani-Acrivos"),
     ]
     if not quick:
         rows += [
@@ -84,9 +93,10 @@ def main():
     computed = {}
     computed["centred"] = run_poresph(args.build, "square_array/square_array_c20.xml", os.path.join(args.out, "centred"),
                                       ["Discretization/Particle Spacing=0.002"], ranks=args.ranks)
-    computed["centred-noshift"] = run_poresph(args.build, "square_array/square_array_c20.xml",
-                                              os.path.join(args.out, "centred-noshift"),
-                                              ["Discretization/Particle Spacing=0.002"] + NO_SHIFTING, ranks=args.ranks)
+    computed["centred-moving"] = run_poresph(args.build, "square_array/square_array_c20.xml",
+                                             os.path.join(args.out, "centred-moving"),
+                                             ["Discretization/Particle Spacing=0.002"] + MOVING + SHIFTING,
+                                             ranks=args.ranks)
 
     rows = []
     for number, (name, scene, settings, reference, reference_name) in enumerate(cases(args.quick)):

@@ -40,6 +40,17 @@ def poresph_command(build, scene, directory, settings=(), ranks=None, threads=1)
     return cmd
 
 
+def moving_particles(build):
+    """The settings that make a poresph of `build` move its particles, as the
+    paper's SPH (and LAMMPS's) does: the default since session 6 keeps them
+    fixed (docs/method.md). Empty for a build older than that setting, whose
+    particles always move."""
+    listing = subprocess.run([os.path.join(build, "poresph"), "--help-parameters"], capture_output=True, text=True)
+    if "Particle Motion" not in listing.stdout:
+        return []
+    return ["Discretization/Particle Motion=lagrangian", "Discretization/Wall Pressure=continuity"]
+
+
 def read_summary(directory):
     with open(os.path.join(directory, "summary.json")) as f:
         return json.load(f)

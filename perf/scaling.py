@@ -24,13 +24,14 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from poresph_runs import CORES, ROOT, run_poresph  # noqa: E402
+from poresph_runs import CORES, ROOT, moving_particles, run_poresph  # noqa: E402
 
 SCENES = {1: "problem1/problem1.xml", 2: "problem2/problem2.xml", 3: "problem3/problem3.xml"}
 def run(build, out, scene, ranks, steps, settings):
     directory = os.path.join(out, "runs", f"{os.path.basename(scene)}-{ranks}-{'-'.join(settings)}".replace("/", "_"))
-    return run_poresph(build, scene, directory, [f"Run/Max Steps={steps}", "Permeability/Steady Tolerance=0", *settings],
-                       ranks=ranks)
+    # Moving particles, as in the figures of docs/performance.md (sessions 2-5).
+    return run_poresph(build, scene, directory, [f"Run/Max Steps={steps}", "Permeability/Steady Tolerance=0", *settings,
+                                                 *moving_particles(build)], ranks=ranks)
 
 
 def measure_all(args, configs):

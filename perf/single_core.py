@@ -24,7 +24,7 @@ import statistics
 import subprocess
 import sys
 
-from poresph_runs import ROOT, run_poresph, write_csv
+from poresph_runs import ROOT, moving_particles, run_poresph, write_csv
 
 SCENE = "problem1/problem1.xml"
 SPACING = 0.00025
@@ -63,13 +63,15 @@ def main():
     rates = {label: [] for label in labels}
     pairs = None
     ratios = {label: [] for label in labels[1:]}
+    # LAMMPS moves its particles: so does PoreSPH here, the same scene.
+    motion = {build: moving_particles(build) for build in builds}
     for k in range(args.repeats):
         lammps = lammps_rate(args.lammps_steps)
         rates[labels[0]].append(lammps)
         for index, (label, build) in enumerate(zip(labels[1:], builds)):
             summary = run_poresph(build, SCENE, os.path.join(args.out, f"run-{k}-{index}"),
                                   [f"Discretization/Particle Spacing={SPACING!r}", f"Run/Max Steps={args.steps}",
-                                   "Run/Backend=serial"])
+                                   "Run/Backend=serial"] + motion[build])
             rate = summary["particle_steps_per_second"]
             pairs = pairs_per_particle(3 * summary["smoothing_length"] / SPACING)
             rates[label].append(rate)

@@ -3,23 +3,23 @@
 took, for the square arrays of solid fraction 0.2 and 0.5 (reference:
 Sangani & Acrivos 1982) and problem III (reference: the finite-element
 value of perf/stokes_reference.py, or else the finest PoreSPH run), at
-several resolutions, each with the paper's speed-of-sound rule and with
-Fluid/Raise Sound Speed; at the middle resolution also with another delta
-of the rule and with density re-summation. Every run stops by itself when
-k is steady.
+several resolutions, each with PoreSPH's default (fixed particles,
+docs/method.md) and with moving particles as in the paper plus particle
+shifting (the default until session 5); at the middle resolution also the
+moving particles with the raised sound speed and the fixed ones without
+the convective term. Every run stops by itself when k is steady.
 
     perf/speed_vs_error.py [--build build] [--out build/speed-vs-error]
         [--problem3-runs DIR...] [--problem3-reference K_M2]
         [--square-arrays-csv build/square-arrays/square_arrays.csv]
     perf/speed_vs_error.py --replot build/speed-vs-error/speed_vs_error.csv
 
-Problem III at dx = 0.005 L and 0.0025 L takes minutes to hours on two
-ranks; such runs are made once (input/problem3/problem3.xml with
-Discretization/Particle Spacing set) and their output directories given
-with --problem3-runs (the spacing is read from their parameters_used.xml);
+Problem III at dx = 0.005 L and 0.0025 L takes minutes to hours; such runs
+are made once (input/problem3/problem3.xml with Discretization/Particle
+Spacing set) and their output directories given with --problem3-runs (the
+spacing and the particle motion are read from their parameters_used.xml);
 the script runs dx = 0.02 and 0.01 L itself when problem III has a
-reference. A run made with Fluid/Raise Sound Speed is put on the raised-c
-curve.
+reference.
 Writes speed_vs_error.csv into --out (and, once all runs are done, into
 docs/figures beside the plot), docs/figures/speed_vs_error.png,
 and prints the table for docs/speed_vs_error.md, with what the steady-state
@@ -40,7 +40,10 @@ from poresph_runs import ROOT, read_summary, run_poresph, write_csv  # noqa: E40
 
 L = 0.1
 SANGANI_ACRIVOS = {20: 1 / 51.53, 50: 1 / 532.55}
-RAISED = "raised c"  # the variant with Fluid/Raise Sound Speed
+DEFAULT = "fixed (default)"
+MOVING = "moving, shifting"  # the paper's moving particles with particle shifting, session 5's default
+MOVING_SETTINGS = ["Discretization/Particle Motion=lagrangian", "Discretization/Wall Pressure=continuity",
+                   "Discretization/Particle Shifting=4"]
 END_TIME = 8000.0  # of the scenes below: what a run without the steady-state stop would simulate
 
 
@@ -78,17 +81,17 @@ def report(rows):
     # choice (solid: the paper's rule, dashed: raised c), other variants as markers.
     fig, ax = plt.subplots(figsize=(10, 5.5))
     for scene, colour in [("square array c = 0.2", "C0"), ("square array c = 0.5", "C1"), ("problem III", "C2")]:
-        for curve, style in [("default", "o-"), (RAISED, "D--")]:
+        for curve, style in [(DEFAULT, "o-"), (MOVING, "D--")]:
             sel = sorted((r for r in rows if r["scene"] == scene and r["variant"] == curve and r["relative_error"]),
                          key=lambda r: r["wall_seconds"] * r["ranks"])
             if not sel:
                 continue
             ax.loglog([r["wall_seconds"] * r["ranks"] for r in sel], [abs(r["relative_error"]) for r in sel], style,
-                      color=colour, label=scene if curve == "default" else f"{scene}, raised c")
+                      color=colour, label=f"{scene}, {curve}")
             for r in sel:
                 ax.annotate(f"{r['dx_over_L']:g}L", (r["wall_seconds"] * r["ranks"], abs(r["relative_error"])),
-                            fontsize=7, textcoords="offset points", xytext=(4, 4 if curve == "default" else -9))
-        for marker, variant in [("^", "delta 0.03"), ("v", "delta 0.003"), ("s", "re-summation every 20")]:
+                            fontsize=7, textcoords="offset points", xytext=(4, 4 if curve == DEFAULT else -9))
+        for marker, variant in [("^", "moving, shifting, raised c"), ("v", "fixed, no convection")]:
             sel = [r for r in rows if r["scene"] == scene and r["variant"] == variant]
             if sel:
                 ax.loglog([r["wall_seconds"] for r in sel], [abs(r["relative_error"]) for r in sel], marker,
@@ -137,11 +140,10 @@ def main():
     def save():
         write_csv(os.path.join(args.out, "speed_vs_error.csv"), rows)
 
-    raised = (RAISED, ["Fluid/Raise Sound Speed=true"])
-    variants = [("default", []), raised]
-    middle_variants = [("delta 0.03", ["Fluid/Density Variation=0.03"]),
-                       ("delta 0.003", ["Fluid/Density Variation=0.003"]),
-                       ("re-summation every 20", ["Discretization/Density Resummation Interval=20"])]
+    moving = (MOVING, MOVING_SETTINGS)
+    variants = [(DEFAULT, []), moving]
+    middle_variants = [("moving, shifting, raised c", MOVING_SETTINGS + ["Fluid/Raise Sound Speed=true"]),
+                       ("fixed, no convection", ["Fluid/Convection=false"])]
     earlier = []
     if args.square_arrays_csv:
         with open(args.square_arrays_csv) as f:
@@ -155,11 +157,11 @@ def main():
                 r = done[0]
                 k = float(r["k_over_L2"])
                 steps, wall = int(r["steps"]), float(r["wall_seconds"])
-                rows.append(dict(scene=f"square array c = 0.{fraction // 10}", variant="default", dx_over_L=dx / L,
+                rows.append(dict(scene=f"square array c = 0.{fraction // 10}", variant=DEFAULT, dx_over_L=dx / L,
                                  k_over_L2=k, reference=reference, relative_error=k / reference - 1,
                                  steady=r["steady"], steps=steps, wall_seconds=wall, ranks=1,
                                  wall_seconds_to_end_time=wall * (END_TIME / float(r["simulated_time"]))))
-            todo = variants if not done else [raised]
+            todo = variants if not done else [moving]
             for variant, settings in todo + (middle_variants if dx == 0.002 else []):
                 out = os.path.join(args.out, f"c{fraction}-dx{dx}-{variant.replace(' ', '_')}")
                 s = run_poresph(args.build, scene, out, [f"Discretization/Particle Spacing={dx!r}"] + settings)
@@ -174,7 +176,7 @@ def main():
                       ElementTree.parse(os.path.join(directory, "parameters_used.xml")).iter("Parameter")}
         if "Particle Spacing" not in parameters:
             sys.exit(f"{directory}/parameters_used.xml has no Particle Spacing")
-        variant = RAISED if parameters.get("Raise Sound Speed") == "true" else "default"
+        variant = MOVING if parameters.get("Particle Motion") == "lagrangian" else DEFAULT
         return float(parameters["Particle Spacing"]), variant, read_summary(directory)
 
     given = sorted((given_run(d) for d in args.problem3_runs), key=lambda run: run[0])
