@@ -6,6 +6,7 @@
 #include "app/Simulation.hpp"
 #include "geometry/Lattice.hpp"
 #include "io/Parameters.hpp"
+#include "io/TextValues.hpp"
 
 namespace poresph {
 namespace {
@@ -199,6 +200,32 @@ TEST(Parameters, EveryParameterIsDocumented) {
   for (const char* name : {"Cell Size", "Periodic", "Density", "Kinematic Viscosity", "Body Force",
                            "Particle Spacing", "End Time", "Max Steps"})
     EXPECT_NE(help.str().find(name), std::string::npos) << name;
+}
+
+// The one reading of numbers for the XML, --set and grain files: the whole
+// text, finite, in range; nothing read "as far as it goes".
+TEST(TextValues, NumbersAreReadWholeOrNotAtAll) {
+  EXPECT_EQ(parse_number<double>(" 0.005 ").value, 0.005);
+  EXPECT_EQ(parse_number<double>("+2.5e-3").value, 2.5e-3);
+  EXPECT_EQ(parse_number<double>("-1").value, -1.0);
+  for (const char* bad : {"0.005abc", "", "  ", "nan", "NaN", "inf", "-infinity", "0x10", "1e400", "1,5", "1 2"}) {
+    const auto parsed = parse_number<double>(bad);
+    EXPECT_FALSE(parsed.value) << "'" << bad << "' read as " << *parsed.value;
+    EXPECT_FALSE(parsed.problem.empty()) << bad;
+  }
+  EXPECT_NE(parse_number<double>("nan").problem.find("finite"), std::string::npos);
+  EXPECT_NE(parse_number<double>("1e400").problem.find("range"), std::string::npos);
+  EXPECT_EQ(parse_number<int>("12").value, 12);
+  for (const char* bad : {"12.5", "1e3", "12abc", "99999999999"}) EXPECT_FALSE(parse_number<int>(bad).value) << bad;
+  EXPECT_EQ(parse_number<long long>("99999999999").value, 99999999999LL);
+  EXPECT_EQ(parse_bool("true").value, true);
+  EXPECT_EQ(parse_bool("0").value, false);
+  EXPECT_FALSE(parse_bool("yes").value);
+  EXPECT_EQ(parse_array<double>("{1, 2.5}").value, (std::vector<double>{1.0, 2.5}));
+  EXPECT_EQ(parse_array<int>(" { } ").value, std::vector<int>{});
+  for (const char* bad : {"1, 2", "{1, 2", "{1,, 2}", "{1, nan}", "{1, 2x}", "{1, }"})
+    EXPECT_FALSE(parse_array<double>(bad).value) << bad;
+  EXPECT_NE(parse_array<double>("{1, 2x}").problem.find("element 2 '2x'"), std::string::npos);
 }
 
 }  // namespace

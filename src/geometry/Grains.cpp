@@ -1,10 +1,15 @@
 #include "geometry/Grains.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "io/TextValues.hpp"
 
 namespace poresph {
 namespace {
@@ -18,8 +23,16 @@ double squared_distance(const std::array<double, 3>& d, int dim) {
 }  // namespace
 
 std::vector<Grain> read_grain_file(const std::string& path, int dimension) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const auto status = fs::status(path, error);
+  const std::string cannot = "Grains/File: cannot open '" + path + "': ";
+  if (!fs::exists(status)) throw std::invalid_argument(cannot + "no such file");
+  // A directory or a device reads as no lines at all: zero grains, porosity 1, without a word.
+  if (fs::is_directory(status)) throw std::invalid_argument(cannot + "it is a directory, not a grain file");
+  if (!fs::is_regular_file(status)) throw std::invalid_argument(cannot + "it is not a regular file");
   std::ifstream in(path);
-  if (!in) throw std::invalid_argument("Grains/File: cannot open '" + path + "'");
+  if (!in) throw std::invalid_argument(cannot + std::strerror(errno));
   std::vector<Grain> grains;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
@@ -29,16 +42,10 @@ std::vector<Grain> read_grain_file(const std::string& path, int dimension) {
     std::vector<double> values;
     std::string word;
     while (fields >> word) {
-      size_t used = 0;
-      double value = 0;
-      try {
-        value = std::stod(word, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != word.size())
-        throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + word + "' is not a number");
-      values.push_back(value);
+      const auto parsed = parse_number<double>(word);  // as every number PoreSPH reads: NaN is no coordinate
+      if (!parsed.value)
+        throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + word + "' " + parsed.problem);
+      values.push_back(*parsed.value);
     }
     if (values.empty()) continue;
     if (static_cast<int>(values.size()) != dimension + 1)
@@ -52,6 +59,11 @@ std::vector<Grain> read_grain_file(const std::string& path, int dimension) {
     g.origin = path + ":" + std::to_string(number);
     grains.push_back(g);
   }
+  if (in.bad()) throw std::invalid_argument(cannot + std::strerror(errno));
+  if (grains.empty())
+    throw std::invalid_argument("Grains/File '" + path +
+                                "' holds no grain (only blank lines or comments); a scene without grains "
+                                "leaves Grains/File empty");
   return grains;
 }
 
@@ -84,6 +96,13 @@ std::array<double, 3> periodic_difference(const std::array<double, 3>& a, const 
 void check_grains(const std::vector<Grain>& grains, const SceneConfig& scene) {
   const int dim = scene.dimension;
   for (const auto& g : grains) {
+    for (int d = 0; d < dim; ++d)
+      if (!std::isfinite(g.centre[d])) {
+        std::ostringstream msg;
+        msg << "grain " << g.origin << " has centre coordinate " << d << " = " << g.centre[d]
+            << "; it must be a finite number";
+        throw std::invalid_argument(msg.str());
+      }
     if (!(g.radius > 0)) {
       std::ostringstream msg;
       msg << "grain " << g.origin << " has radius " << g.radius << "; radii must be positive";

@@ -4,14 +4,23 @@
 
 #include <Teuchos_Array.hpp>
 #include <Teuchos_StandardParameterEntryValidators.hpp>
+#include <Teuchos_StringInputSource.hpp>
+#include <Teuchos_XMLObject.hpp>
 #include <Teuchos_XMLParameterListCoreHelpers.hpp>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
-#include <type_traits>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
+#include <type_traits>
+
+#include "io/TextValues.hpp"
 
 namespace poresph {
 namespace {
@@ -234,29 +243,100 @@ std::vector<std::string> split_path(const std::string& path) {
   return parts;
 }
 
-template <class T>
-T parse_number(const std::string& text, const std::string& where) {
-  size_t used = 0;
-  T value{};
-  try {
-    if constexpr (std::is_same_v<T, int>) value = std::stoi(text, &used);
-    else value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
+// Edit distance, for "did you mean" on a misspelt name.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
+      diagonal = above;
+    }
   }
-  while (used < text.size() && std::isspace(static_cast<unsigned char>(text[used]))) ++used;
-  if (used == 0 || used != text.size())
-    throw ParameterError("--set " + where + ": '" + text + "' is not a valid " +
-                         (std::is_same_v<T, int> ? "integer" : "number"));
-  return value;
+  return row[b.size()];
 }
 
-template <class T>
-Array<T> parse_array(const std::string& text, const std::string& where) {
-  try {
-    return Teuchos::fromStringToArray<T>(text);
-  } catch (const std::exception&) {
-    throw ParameterError("--set " + where + ": '" + text + "' is not an array like {1, 2}");
+// "; did you mean 'Kinematic Viscosity'?" when a valid name of the group is
+// within a few edits of `name`; otherwise the group's names.
+std::string suggestion(const ParameterList& valid, const std::string& name) {
+  std::string best, names;
+  size_t best_distance = 4;  // more edits than this is another word, not a typo
+  for (auto it = valid.begin(); it != valid.end(); ++it) {
+    const std::string& candidate = valid.name(it);
+    names += (names.empty() ? "" : ", ") + candidate;
+    const size_t d = edit_distance(name, candidate);
+    if (d < best_distance) best_distance = d, best = candidate;
+  }
+  if (!best.empty()) return "; did you mean '" + best + "'?";
+  return "; the group holds: " + names;
+}
+
+// Sets `name` in `target` from its text, as the type of the valid entry:
+// the one way a value is read, from the scene's XML and from --set alike.
+// `where` says where the text came from, for the message.
+void set_from_text(ParameterList& target, const Teuchos::ParameterEntry& expected, const std::string& name,
+                   const std::string& text, const std::string& where) {
+  auto take = [&](auto parsed) {
+    if (!parsed.value) throw ParameterError(where + ": '" + text + "' " + parsed.problem);
+    return *parsed.value;
+  };
+  if (expected.isType<double>()) target.set(name, take(parse_number<double>(text)));
+  else if (expected.isType<int>()) target.set(name, take(parse_number<int>(text)));
+  else if (expected.isType<std::string>()) target.set(name, text);
+  else if (expected.isType<bool>()) target.set(name, take(parse_bool(text)));
+  else if (expected.isType<Array<double>>()) target.set(name, Array<double>(take(parse_array<double>(text))));
+  else if (expected.isType<Array<int>>()) target.set(name, Array<int>(take(parse_array<int>(text))));
+  else throw ParameterError(where + ": this parameter cannot be given as text");
+}
+
+// Teuchos's XML reader takes "0.005abc" as 0.005 and lets a second
+// <Parameter> of the same name replace the first without a word. So the
+// scene's XML is walked here instead: each value goes through
+// set_from_text, as --set does, and a name given twice in one list is
+// refused. What Teuchos writes besides (validators, dependencies, and
+// attributes such as docString or isUsed in parameters_used.xml) is ignored.
+void read_xml_list(const Teuchos::XMLObject& xml, const ParameterList& valid, ParameterList& target,
+                   const std::string& path, const std::string& file) {
+  std::set<std::string> seen;
+  for (int k = 0; k < xml.numChildren(); ++k) {
+    const Teuchos::XMLObject& child = xml.getChild(k);
+    const std::string& tag = child.getTag();
+    if (path.empty() && (tag == "Validators" || tag == "Dependencies")) continue;
+    const std::string group = path.empty() ? "at the top level" : "in group " + path.substr(0, path.size() - 1);
+    if (tag != "ParameterList" && tag != "Parameter")
+      throw ParameterError(file + ": unexpected <" + tag + "> " + group +
+                           " (a scene holds <ParameterList> and <Parameter> elements)");
+    if (!child.hasAttribute("name"))
+      throw ParameterError(file + ": a <" + tag + "> " + group + " has no name");
+    const std::string& name = child.getAttribute("name");
+    const std::string full = path + name;
+    if (!seen.insert(name).second)
+      throw ParameterError(file + ": " + full + " is given twice " + group +
+                           "; remove one (which of them should count is not for PoreSPH to guess)");
+    if (tag == "ParameterList") {
+      if (!valid.isSublist(name))
+        throw ParameterError(file + ": there is no parameter group '" + full + "'" + suggestion(valid, name) +
+                             " (see poresph --help-parameters)");
+      read_xml_list(child, valid.sublist(name), target.sublist(name), full + "/", file);
+      continue;
+    }
+    if (!valid.isParameter(name) || valid.isSublist(name))
+      throw ParameterError(file + ": unknown parameter " + full + suggestion(valid, name) +
+                           " (see poresph --help-parameters)");
+    const auto& expected = valid.getEntry(name);
+    const std::string expected_type = expected.getAny().typeName();
+    if (!child.hasAttribute("type") || !child.hasAttribute("value"))
+      throw ParameterError(file + ": parameter " + full + " needs a type and a value (type=\"" + expected_type +
+                           "\")");
+    const std::string& type = child.getAttribute("type");
+    if (type != expected_type)
+      throw ParameterError(file + ": parameter " + full + " has type " + type + ", expected " + expected_type);
+    set_from_text(target, expected, name, child.getAttribute("value"), file + ": " + full);
   }
 }
 
@@ -313,19 +393,9 @@ void apply_override(ParameterList& list, const std::string& assignment) {
   }
   const std::string& name = parts.back();
   if (parts.size() < 2 || !valid->isParameter(name) || valid->isSublist(name))
-    throw ParameterError("--set " + path + ": unknown parameter (see poresph --help-parameters)");
-  const auto& entry = valid->getEntry(name);
-  if (entry.isType<double>()) target->set(name, parse_number<double>(text, path));
-  else if (entry.isType<int>()) target->set(name, parse_number<int>(text, path));
-  else if (entry.isType<std::string>()) target->set(name, text);
-  else if (entry.isType<bool>()) {
-    if (text == "true" || text == "1") target->set(name, true);
-    else if (text == "false" || text == "0") target->set(name, false);
-    else throw ParameterError("--set " + path + ": '" + text + "' is not true or false");
-  }
-  else if (entry.isType<Array<double>>()) target->set(name, parse_array<double>(text, path));
-  else if (entry.isType<Array<int>>()) target->set(name, parse_array<int>(text, path));
-  else throw ParameterError("--set " + path + ": this parameter cannot be set from the command line");
+    throw ParameterError("--set " + path + ": unknown parameter" + suggestion(*valid, name) +
+                         " (see poresph --help-parameters)");
+  set_from_text(*target, valid->getEntry(name), name, text, "--set " + path);
 }
 
 void validate_parameters(ParameterList& list) {
@@ -350,12 +420,28 @@ void validate_parameters(ParameterList& list) {
 }
 
 RCP<ParameterList> read_parameters(const std::string& xml_file, const std::vector<std::string>& overrides) {
-  RCP<ParameterList> list;
+  namespace fs = std::filesystem;
+  const std::string cannot = "cannot read scene file '" + xml_file + "': ";
+  std::error_code error;
+  const auto status = fs::status(xml_file, error);
+  if (!fs::exists(status)) throw ParameterError(cannot + "no such file");
+  if (fs::is_directory(status)) throw ParameterError(cannot + "it is a directory, not an XML file");
+  if (!fs::is_regular_file(status)) throw ParameterError(cannot + "it is not a regular file");
+  std::ifstream in(xml_file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) throw ParameterError(cannot + std::strerror(errno));
+  if (trimmed(text.str()).empty()) throw ParameterError(cannot + "the file is empty");
+  Teuchos::XMLObject xml;
   try {
-    list = Teuchos::getParametersFromXmlFile(xml_file);
+    xml = Teuchos::StringInputSource(text.str()).getObject();
   } catch (const std::exception& e) {
-    throw ParameterError("cannot read scene file '" + xml_file + "':\n" + e.what());
+    throw ParameterError(cannot + "it is not well-formed XML:\n" + e.what());
   }
+  if (xml.getTag() != "ParameterList")
+    throw ParameterError(cannot + "its top element is <" + xml.getTag() + ">, not <ParameterList>");
+  auto list = rcp(new ParameterList(xml.hasAttribute("name") ? xml.getAttribute("name") : "PoreSPH"));
+  read_xml_list(xml, *valid_parameters(), *list, "", xml_file);
   for (const auto& assignment : overrides) apply_override(*list, assignment);
   validate_parameters(*list);
   return list;
