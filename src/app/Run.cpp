@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "app/Output.hpp"
+#include "app/SceneCheck.hpp"
 #include "app/Simulation.hpp"
 #include "core/ExecutionSpaces.hpp"
 #include "diagnostics/ChannelFlow.hpp"
@@ -173,7 +174,9 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   const double shortest_scale = scene.steady_window > 0 ? scene.steady_window : sim.derived().length_scale *
                                                                                     sim.derived().length_scale /
                                                                                     (8 * scene.kinematic_viscosity);
-  const long long check_interval = std::clamp(static_cast<long long>(shortest_scale / (20 * dt)), 1LL, 100LL);
+  // Clamped as a double: a long time scale over a short step would overflow the conversion.
+  const long long check_interval =
+      static_cast<long long>(std::clamp(std::floor(shortest_scale / (20 * dt)), 1.0, 100.0));
   std::ofstream history;
   if (measure_k && root) {
     const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
@@ -240,8 +243,9 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   ProgressLine progress(show_progress);
   const char* label = drive_axis == 0 ? "[F along x] " : drive_axis == 1 ? "[F along y] " : drive_axis == 2 ? "[F along z] " : "";
   // Steps are counted, not times summed: the run ends on the step nearest End Time.
-  const long long steps_to_end = std::max(1LL, static_cast<long long>(std::llround(scene.end_time / dt)));
-  const long long last_step = scene.max_steps > 0 ? std::min(steps_to_end, scene.max_steps) : steps_to_end;
+  // Checked (SceneCheck.hpp): a count that wrapped would end the run after one step.
+  const long long last_step = poresph::last_step(scene.end_time, dt, scene.max_steps);
+  const long long steps_to_end = steps_to_end_time(scene.end_time, dt);
   const bool stop_when_steady = measure_k && scene.steady_tolerance > 0;
   // A signal is seen by one process; all stop together at the next agreement.
   constexpr long long kSignalCheckInterval = 10;

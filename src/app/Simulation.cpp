@@ -26,6 +26,15 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
     largest_side = std::max(largest_side, scene.cell_size[d]);
   }
   force_norm = std::sqrt(force_norm);
+  // A component can be finite while its square overflows; either way no
+  // time step follows from it, and "no flow scale" would be the wrong reason.
+  if (!std::isfinite(force_norm)) {
+    std::ostringstream msg;
+    msg << "Fluid/Body Force = (";
+    for (int d = 0; d < dim; ++d) msg << (d ? ", " : "") << scene.body_force[d];
+    msg << ") has no finite magnitude";
+    throw std::invalid_argument(msg.str());
+  }
   const double nu = scene.kinematic_viscosity;
   p.length_scale = scene.length_scale > 0 ? scene.length_scale : largest_side;
   // Without a given velocity scale: the larger of the moving walls' speed and
@@ -58,8 +67,22 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
       if (std::isfinite(other_limit)) p.sound_speed = std::max(p.sound_speed, 0.25 * p.smoothing_length / other_limit);
     }
   }
+  if (!std::isfinite(p.sound_speed)) {
+    std::ostringstream msg;
+    msg << "the speed of sound chosen from the flow scales is not finite (velocity scale " << p.velocity_scale
+        << " m/s, length scale " << p.length_scale << " m, |F| = " << force_norm
+        << " m/s^2); set Fluid/Sound Speed or Fluid/Velocity Scale";
+    throw std::invalid_argument(msg.str());
+  }
   p.limits = time_step_limits(p.smoothing_length, p.sound_speed, nu, force_norm);
   p.time_step = scene.time_step > 0 ? scene.time_step : p.limits.smallest();
+  if (!(p.time_step > 0) || !std::isfinite(p.time_step)) {
+    std::ostringstream msg;
+    msg << "the time step comes out as " << p.time_step << " s (acoustic limit " << p.limits.acoustic
+        << ", viscous " << p.limits.viscous << ", body force " << p.limits.force
+        << "): no run can step with it; check Fluid/Sound Speed, Fluid/Kinematic Viscosity and Fluid/Body Force";
+    throw std::invalid_argument(msg.str());
+  }
   if (p.time_step > p.limits.smallest() * (1 + 1e-12)) {
     std::ostringstream msg;
     msg << "Discretization/Time Step = " << scene.time_step << " exceeds the stability limit "
@@ -190,6 +213,14 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   for (const auto& s : seeds) fluid += s.kind == kFluid;
   fluid_count_ = comm_.sum(fluid);
   total_count_ = comm_.sum(static_cast<long long>(seeds.size()));
+  // Nothing would flow: every measure of the run would be a plausible zero.
+  if (fluid_count_ == 0) {
+    std::ostringstream msg;
+    msg << "the scene has no fluid particle: at Discretization/Particle Spacing = " << scene.particle_spacing
+        << " every lattice point lies in a grain or a wall (" << total_count_
+        << " boundary particles); refine the spacing or leave the grains room";
+    throw std::invalid_argument(msg.str());
+  }
   compute_rates();
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "app/Run.hpp"
+#include "app/SceneCheck.hpp"
 #include "app/Simulation.hpp"
 #include "io/Summary.hpp"
 #include "io/Parameters.hpp"
@@ -72,6 +73,16 @@ CommandLine parse_command_line(int argc, char** argv) {
     else throw poresph::ParameterError("more than one scene file given: " + cl.scene_file + ", " + arg);
   }
   return cl;
+}
+
+// Processes of this run on this machine, for the memory check.
+int processes_on_this_machine() {
+  MPI_Comm machine;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &machine);
+  int n = 1;
+  MPI_Comm_size(machine, &n);
+  MPI_Comm_free(&machine);
+  return n;
 }
 
 int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const poresph::SceneConfig& scene,
@@ -140,6 +151,10 @@ int main(int argc, char** argv) {
     parameters = poresph::read_parameters(cl.scene_file, cl.overrides);
     scene = poresph::scene_from_parameters(*parameters,
                                            std::filesystem::absolute(cl.scene_file).parent_path().string());
+    int ranks = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    // What the run needs, before it allocates anything.
+    poresph::check_scene(scene, ranks, poresph::memory_budget(scene, processes_on_this_machine()));
   } catch (const std::exception& e) {
     if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
     MPI_Finalize();

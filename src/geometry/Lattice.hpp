@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
@@ -26,11 +28,22 @@ struct SeedParticle {
   long long id;
 };
 
+// Lattice points along one direction, boundary layers included, fit an int.
+constexpr int kMostLatticePointsAcross = 1 << 30;
+
 // Number of lattice points across a periodic cell side; the side must hold a
 // whole number of spacings or the periodic lattice would have a seam.
 inline int lattice_points_across(double side, double dx, int d) {
   const double n = side / dx;
   const double rounded = std::round(n);
+  // Lattice indices are ints: converting a larger count would wrap (to no
+  // particles at all, for one), so it is refused here, before any use.
+  if (!(rounded <= kMostLatticePointsAcross)) {
+    std::ostringstream msg;
+    msg << "Domain/Cell Size[" << d << "] / Discretization/Particle Spacing = " << side << " / " << dx << " = " << n
+        << " lattice points across: more than " << kMostLatticePointsAcross << ", the most PoreSPH indexes";
+    throw std::invalid_argument(msg.str());
+  }
   if (rounded < 1 || std::abs(n - rounded) > 1e-6 * rounded) {
     std::ostringstream msg;
     msg << "Domain/Cell Size[" << d << "] = " << side << " is not a whole multiple of Discretization/Particle Spacing = "
@@ -79,7 +92,12 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene, const doub
     first[1] = -layers;
     count[1] += 2 * layers;
   }
-  // Global lattice: ids. Local range: what this box generates.
+  // Global lattice: ids (a 64-bit count of every lattice point). Local range: what this box generates.
+  double lattice_points = 1;  // in floating point: its overflow check is a comparison
+  for (int d = 0; d < Dim; ++d) lattice_points *= count[d];
+  if (lattice_points > 9.2e18)
+    throw std::invalid_argument("the lattice has more points than a 64-bit count holds: coarsen "
+                                "Discretization/Particle Spacing");
   auto global_id = [&](const int (&index)[Dim]) {
     long long k = 0;
     for (int d = Dim - 1; d >= 0; --d) k = k * count[d] + (index[d] - first[d]);
@@ -93,7 +111,7 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene, const doub
     const int end = std::min(first[d] + count[d], static_cast<int>(std::ceil(b / dx - 0.5)));
     local_first[d] = begin;
     local_count[d] = std::max(0, end - begin);
-    total *= local_count[d];
+    total *= local_count[d];  // bounded by the whole lattice's count, checked above
   }
   auto flat_index = [&](const int (&index)[Dim]) {
     long long k = 0;
@@ -191,6 +209,10 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene, const doub
 template <int Dim, class ExecSpace>
 void load_seeds(const std::vector<SeedParticle<Dim>>& seeds, double rho0, double dx,
                 Particles<Dim, typename ExecSpace::memory_space>& P) {
+  // Particles are indexed by int on each process.
+  if (seeds.size() > static_cast<size_t>(std::numeric_limits<int>::max()))
+    throw std::invalid_argument("one process would hold " + std::to_string(seeds.size()) +
+                                " particles, more than it can index (2^31 - 1): run on more processes");
   const int n = static_cast<int>(seeds.size());
   P.reserve(n);
   P.owned = n;

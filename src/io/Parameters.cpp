@@ -175,6 +175,12 @@ RCP<ParameterList> make_valid_parameters() {
           one_of({"default", "serial", "openmp"}));
     s.set("Threads", 0, "Threads per process for the OpenMP backend; 0 = Kokkos's default (OMP_NUM_THREADS).",
           int_in(0, 1024));
+    s.set("Memory Limit", 0.0,
+          "Memory (GB) the run's processes may use on one machine. Before allocating anything, the particle "
+          "count (every lattice point), the gridded view and the memory they need are estimated, and a run "
+          "that would not fit is refused, naming both. 0: the memory the machine has available "
+          "(MemAvailable in /proc/meminfo).",
+          real_in(0.0, kHuge));
     s.set("Progress", std::string("auto"),
           "Progress line (step, time, % done, ETA): 'auto' = only on a terminal and not under mpiexec, "
           "'always', 'never'.",
@@ -536,6 +542,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   const auto backend = run.get<std::string>("Backend");
   scene.backend = backend == "serial" ? Backend::Serial : backend == "openmp" ? Backend::OpenMP : Backend::Default;
   scene.threads = run.get<int>("Threads");
+  scene.memory_limit_bytes = run.get<double>("Memory Limit") * 1e9;
   const auto progress = run.get<std::string>("Progress");
   scene.progress = progress == "always" ? ProgressMode::Always
                    : progress == "never" ? ProgressMode::Never

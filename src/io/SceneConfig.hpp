@@ -73,6 +73,7 @@ struct SceneConfig {
   ProgressMode progress = ProgressMode::Auto;
   Backend backend = Backend::Default;  // Kokkos execution space of the kernels
   int threads = 0;                     // threads per process; 0 = Kokkos's default
+  double memory_limit_bytes = 0;       // for the run's processes on one machine; 0: what it has available
 
   // Sub-domains across MPI ranks: a process grid (empty: chosen from the
   // cell's shape), with optional cuts per direction (the paper's adjusted

@@ -1,0 +1,213 @@
+#include "app/SceneCheck.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/Kernel.hpp"
+#include "geometry/Lattice.hpp"
+#include "io/Parameters.hpp"
+
+namespace poresph {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Counts beyond this are refused rather than computed: 2^62 leaves room for
+// the sums and products the run makes of them without overflow.
+constexpr double kMostCount = 4611686018427387904.0;
+constexpr double kMostIndex = 2147483647.0;  // int: particle, pair and cell indices on a process
+
+template <class... Parts>
+[[noreturn]] void refuse(const Parts&... parts) {
+  std::ostringstream msg;
+  msg.precision(4);
+  (msg << ... << parts);
+  throw ParameterError(msg.str());
+}
+
+// Bytes one particle slot (owned or ghost) of a process costs while the run
+// steps, and at set-up. An estimate from the storage the code allocates,
+// not a measurement: core/Particles.hpp, the half neighbour list, the
+// per-thread pair sums, the cell list, and at set-up the lattice seeds.
+struct SlotBytes {
+  double run, setup;
+};
+SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
+  const int D = s.dimension;
+  const bool surfaces = s.walls != WallType::None || !s.grains.empty();
+  const bool shifting = s.shifting_coefficient > 0;
+  // x, v, x_start, v_start, dvdt; rho, p, m, pressure_term, inverse_density, rho_start, drhodt; kind; id.
+  double fields = 5.0 * D * 8 + 7 * 8 + 4 + 8;
+  if (surfaces) fields += (D + 1) * 8.0;
+  if (shifting) fields += 2.0 * D * 8;
+  fields *= 1.25;  // Particles::reserve grows by a quarter
+  // Half of the neighbours within (3 + skin) h, 4-byte indices, grown by a quarter, plus offsets.
+  const double reach = (kSupportRadiusInH + s.neighbour_skin) * s.smoothing_length_ratio;  // in spacings
+  const double ball = D == 2 ? kPi * reach * reach : 4.0 / 3.0 * kPi * reach * reach * reach;
+  const double list = (0.5 * ball * 4 + 2 * 4) * 1.25;
+  const double sums = std::max(1, threads) * (D + 1.0 + (shifting ? D + 1.0 : 0.0)) * 8;
+  const double cells = 2 * 4;
+  // SeedParticle (x, v, wall_vector, wall_scalar, id, kind) and, with
+  // grains, the owner, depth and offset of every lattice point.
+  double seeds = (3.0 * D + 2) * 8 + 8;
+  if (!s.grains.empty()) seeds += 4 + 8 + 8.0 * D;
+  const double run = fields + list + sums + cells;
+  return {run, fields + seeds};
+}
+
+// Points across each direction of the lattice (wall layers included), as
+// Lattice.hpp will make it; refuses what an int cannot index.
+std::vector<long long> lattice_counts(const SceneConfig& s) {
+  std::vector<long long> counts;
+  try {
+    for (int d = 0; d < s.dimension; ++d)
+      counts.push_back(lattice_points_across(s.cell_size[d], s.particle_spacing, d));
+  } catch (const std::invalid_argument& e) {
+    throw ParameterError(e.what());
+  }
+  if (s.walls == WallType::Channel)
+    counts[1] += 2LL * boundary_layers(s.particle_spacing, s.smoothing_length_ratio * s.particle_spacing);
+  return counts;
+}
+
+// The product of counts, or refused naming `what` when it exceeds kMostCount.
+long long checked_product(const std::vector<long long>& counts, const std::string& what) {
+  double product = 1;
+  std::string shape;
+  for (size_t d = 0; d < counts.size(); ++d) {
+    product *= static_cast<double>(counts[d]);
+    shape += (d ? " x " : "") + std::to_string(counts[d]);
+  }
+  if (!(product <= kMostCount)) refuse(what, " holds ", shape, " = ", product, " points, more than PoreSPH counts (2^62)");
+  long long exact = 1;
+  for (long long c : counts) exact *= c;  // no overflow: bounded above
+  return exact;
+}
+
+}  // namespace
+
+long long steps_to_end_time(double end_time, double dt) {
+  const double steps = std::round(end_time / dt);
+  if (!(steps < kMostCount)) return std::numeric_limits<long long>::max();
+  return std::max(1LL, static_cast<long long>(steps));
+}
+
+long long last_step(double end_time, double dt, long long max_steps) {
+  const long long to_end = steps_to_end_time(end_time, dt);
+  if (max_steps > 0) return std::min(to_end, max_steps);
+  if (to_end == std::numeric_limits<long long>::max()) {
+    std::ostringstream msg;
+    msg << "Run/End Time = " << end_time << " s at a time step of " << dt << " s is " << end_time / dt
+        << " steps: more than PoreSPH counts (2^62); shorten Run/End Time or set Run/Max Steps";
+    throw ParameterError(msg.str());
+  }
+  return to_end;
+}
+
+std::string human_bytes(double bytes) {
+  const char* units[] = {"B", "kB", "MB", "GB", "TB", "PB", "EB"};
+  int u = 0;
+  while (bytes >= 1000 && u < 6) bytes /= 1000, ++u;
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, bytes < 10 ? "%.2g %s" : "%.0f %s", bytes, units[u]);
+  return buffer;
+}
+
+MemoryBudget memory_budget(const SceneConfig& scene, int processes_on_machine) {
+  MemoryBudget budget;
+  budget.processes_on_machine = std::max(1, processes_on_machine);
+  if (scene.memory_limit_bytes > 0) {
+    budget.available_bytes = scene.memory_limit_bytes;
+    budget.source = "Run/Memory Limit";
+    return budget;
+  }
+  // MemAvailable: what Linux can give without swapping, page cache included.
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kilobytes = 0;
+  while (meminfo >> key >> kilobytes) {
+    if (key == "MemAvailable:") {
+      budget.available_bytes = kilobytes * 1024;
+      budget.source = "MemAvailable in /proc/meminfo";
+      return budget;
+    }
+    meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  budget.available_bytes = INFINITY;  // unknown: no memory check
+  budget.source = "unknown (no /proc/meminfo)";
+  return budget;
+}
+
+RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budget) {
+  RunEstimate e;
+  const int D = scene.dimension;
+  try {
+    e.derived = derive_parameters(scene);
+    // The paper's process grid must match the number of processes (RCB fits any).
+    if (scene.grid_decomposition) D == 2 ? static_cast<void>(decompose<2>(scene, ranks))
+                                         : static_cast<void>(decompose<3>(scene, ranks));
+  } catch (const std::invalid_argument& error) {
+    throw ParameterError(error.what());
+  }
+  const auto counts = lattice_counts(scene);
+  e.lattice_points = checked_product(counts, "the particle lattice (Domain/Cell Size / Discretization/Particle Spacing)");
+  e.particles = e.lattice_points;
+  if (!scene.grid_points.empty()) {
+    e.grid_nodes = checked_product(std::vector<long long>(scene.grid_points.begin(), scene.grid_points.end()),
+                                   "the grid of Output/Grid Points");
+  }
+
+  // Per process: its share of the lattice and the ghosts around it (a layer
+  // (3 + skin) h deep on every side of a box of that many points).
+  const int threads = std::max(1, scene.threads);
+  const SlotBytes slot = bytes_per_slot(scene, threads);
+  const double owned = static_cast<double>(e.particles) / ranks;
+  const double side = std::pow(std::max(owned, 1.0), 1.0 / D);
+  const double layer = (kSupportRadiusInH + scene.neighbour_skin) * scene.smoothing_length_ratio;
+  const double slots = owned * std::pow((side + 2 * layer) / side, D);
+  const double reach = layer;  // in spacings
+  const double pairs = 0.5 * owned * (D == 2 ? kPi * reach * reach : 4.0 / 3.0 * kPi * reach * reach * reach);
+  std::ostringstream lattice;
+  lattice.precision(4);
+  for (int d = 0; d < D; ++d) lattice << (d ? " x " : "") << counts[d];
+  // The gridded view: each process interpolates its share of the nodes into
+  // a View, copies it to the host and splits it into the written arrays.
+  const double grid_per_process = static_cast<double>(e.grid_nodes) / ranks * (3.0 * (D + 2) + 5) * 8;
+  e.bytes_per_process = std::max(slots * slot.run + grid_per_process, owned * slot.setup + slots * slot.run / 2);
+  e.bytes = e.bytes_per_process * ranks;
+
+  const double need = e.bytes_per_process * budget.processes_on_machine;
+  if (need > budget.available_bytes) {
+    std::ostringstream grid;
+    if (e.grid_nodes > 0 && grid_per_process > 0.5 * e.bytes_per_process)
+      grid << "; the grid of Output/Grid Points alone (" << e.grid_nodes << " nodes) needs "
+           << human_bytes(grid_per_process * budget.processes_on_machine);
+    refuse("the run needs about ", e.particles, " particles (lattice ", lattice.str(),
+           " at Discretization/Particle Spacing = ", scene.particle_spacing, ") and about ", human_bytes(need),
+           " of memory on this machine (", budget.processes_on_machine, " process",
+           budget.processes_on_machine == 1 ? "" : "es", ")", grid.str(), ", but it has ",
+           human_bytes(budget.available_bytes), " (", budget.source,
+           "). Coarsen the spacing, shrink the grid, or run on more machines; Run/Memory Limit sets the limit");
+  }
+  if (slots * 1.25 > kMostIndex || pairs * 1.25 > kMostIndex) {
+    const double needed = std::ceil(ranks * std::max(slots, pairs) * 1.25 / kMostIndex);
+    refuse("about ", e.particles, " particles (lattice ", lattice.str(), ") on ", ranks, " process",
+           ranks == 1 ? "" : "es", " is ", owned, " particles and ", pairs,
+           " neighbour pairs per process: more than a process indexes (2^31 - 1); run on at least ", needed,
+           " processes or coarsen Discretization/Particle Spacing");
+  }
+  e.steps = last_step(scene.end_time, e.derived.time_step, scene.max_steps);
+  if (scene.end_time < 0.5 * e.derived.time_step) {
+    std::ostringstream msg;
+    msg << "Run/End Time = " << scene.end_time << " s is less than half the time step (" << e.derived.time_step
+        << " s): the run makes one step, to t = " << e.derived.time_step << " s";
+    scene.warnings.push_back(msg.str());
+  }
+  return e;
+}
+
+}  // namespace poresph
