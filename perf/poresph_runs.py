@@ -33,7 +33,8 @@ def poresph_command(build, scene, directory, settings=(), ranks=None, threads=1)
     if ranks is not None:
         binding = "core" if threads == 1 and ranks <= CORES else "none"
         cmd = ["mpiexec", "-n", str(ranks), "--bind-to", binding]
-    cmd += [os.path.join(build, "poresph"), os.path.join(ROOT, "input", scene), "--output", directory,
+    # A script's run replaces the results of its earlier run in the same directory.
+    cmd += [os.path.join(build, "poresph"), os.path.join(ROOT, "input", scene), "--output", directory, "--overwrite",
             "--set", "Run/Progress=never"]
     for setting in settings:
         cmd += ["--set", setting]

@@ -228,5 +228,16 @@ TEST(TextValues, NumbersAreReadWholeOrNotAtAll) {
   EXPECT_NE(parse_array<double>("{1, 2x}").problem.find("element 2 '2x'"), std::string::npos);
 }
 
+// Scene/Name makes the default output directory: no way out of it.
+TEST(Parameters, SceneNameWithAPathSeparatorIsRefused) {
+  for (const char* name : {"../up", "a/b", "a\\b"}) {
+    auto list = minimal_scene();
+    list.sublist("Scene").set("Name", std::string(name));
+    validate_parameters(list);
+    const auto message = error_of([&] { scene_from_parameters(list); });
+    EXPECT_NE(message.find("path separator"), std::string::npos) << name << ": " << message;
+  }
+}
+
 }  // namespace
 }  // namespace poresph

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -112,7 +113,7 @@ extern "C" void request_stop(int signal_number) { stop_signal = signal_number; }
 // One run of the scene as given (drive_axis < 0) or with |F| along drive_axis.
 template <int Dim, class ExecSpace>
 void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunReport& report,
-              const CheckpointInfo* resume_from) {
+              const CheckpointInfo* resume_from, const std::function<void()>& claim_output) {
   double force_norm = 0;
   for (int d = 0; d < Dim; ++d) force_norm += scene.body_force[d] * scene.body_force[d];
   force_norm = std::sqrt(force_norm);
@@ -132,6 +133,14 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     report.restarted_from_step = sim.steps();
   }
   report.setup_seconds += seconds_since(setup_start);
+  // A signal during set-up stops the run before it writes anything.
+  if (sim.communicator().any(stop_signal != 0)) {
+    const int signal_number = sim.communicator().max(static_cast<int>(stop_signal));
+    throw RunInterrupted("stopped by " + std::string(signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
+                             " during set-up, before the first step",
+                         signal_number);
+  }
+  claim_output();
   const bool root = sim.communicator().rank() == 0;
   const double dt = sim.time_step();
   // Appended to, not replaced, when a run continues from a checkpoint.
@@ -304,7 +313,9 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
         next_field_time += scene.field_interval;
       }
       if (scene.checkpoint_interval > 0 && sim.steps() % scene.checkpoint_interval == 0) checkpoint(true);
-      if (sim.steps() % kSignalCheckInterval == 0 && sim.communicator().any(stop_signal != 0)) {
+      // Also at the last step, so that a signal in its final few steps is not lost.
+      if ((sim.steps() % kSignalCheckInterval == 0 || sim.steps() == last_step) &&
+          sim.communicator().any(stop_signal != 0)) {
         const int signal_number = sim.communicator().max(static_cast<int>(stop_signal));
         progress.finish();
         checkpoint(true);
@@ -353,6 +364,13 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   RunReport report;
   report.scene = scene.name;
   report.warnings = scene.warnings;
+  report.setup_seconds = options.setup_seconds_before;
+  bool output_claimed = false;
+  const std::function<void()> claim_output = [&]() {
+    if (output_claimed) return;
+    if (options.prepare_output) options.prepare_output();
+    output_claimed = true;
+  };
   report.has_grains = !scene.grains.empty();
   report.porosity = porosity(scene.grains, scene);
   std::optional<CheckpointInfo> resume_from;
@@ -380,7 +398,7 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   const CheckpointInfo* pending = resume_from ? &*resume_from : nullptr;
   auto run_axis = [&](int axis) {
     if (pending && pending->state.drive_axis != axis) return;  // finished before the checkpoint
-    run_once<Dim, ExecSpace>(scene, axis, options, report, pending);
+    run_once<Dim, ExecSpace>(scene, axis, options, report, pending, claim_output);
     pending = nullptr;
   };
   auto write_summary = [&]() {
@@ -410,7 +428,10 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   } catch (const SimulationFailure&) {
     write_summary();  // what was measured up to the failure, and the failure itself
     throw;
-  } catch (const RunInterrupted&) {
+  } catch (const RunInterrupted& interrupted) {
+    // Interrupted during the first set-up: nothing was written, nor is now.
+    if (!output_claimed) throw RunInterrupted(std::string(interrupted.what()) + "; nothing was written",
+                                              interrupted.signal_number);
     write_summary();
     throw;
   }
@@ -424,6 +445,8 @@ void install_stop_signal_handlers() {
   std::signal(SIGINT, request_stop);
   std::signal(SIGTERM, request_stop);
 }
+
+int stop_signal_received() { return Communicator().max(static_cast<int>(stop_signal)); }
 
 JsonObject RunReport::to_json() const {
   JsonObject json;

@@ -1,6 +1,7 @@
 #pragma once
 // Runs a scene from start to end and reports it: the time loop, the
 // diagnostics sampled along the way, the progress line and summary.json.
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,6 +17,11 @@ struct RunOptions {
   std::string restart_file;          // a checkpoint to continue from (empty: start afresh)
   std::string parameters_xml;        // the parameter list in use, stored in checkpoints
   long long inject_nan_at_step = -1;  // testing the failure path: this step ends with a NaN velocity
+  // Called by every process once the first set-up has succeeded, before
+  // anything is written: the command line claims the output directory there
+  // (io/OutputDirectory.hpp), so that a run refused during set-up writes nothing.
+  std::function<void()> prepare_output;
+  double setup_seconds_before = 0;  // spent reading and checking the scene before run_scene
 };
 
 // A run stopped by SIGINT or SIGTERM after writing its checkpoint.
@@ -27,6 +33,8 @@ struct RunInterrupted : std::runtime_error {
 
 // Installs the SIGINT/SIGTERM handlers that ask the time loop to stop.
 void install_stop_signal_handlers();
+// The signal received since (SIGINT or SIGTERM), or 0, agreed by all processes.
+int stop_signal_received();
 
 struct ProfileSample {
   double requested_time;  // as asked in Diagnostics/Profile Sample Times (or the end)

@@ -145,6 +145,11 @@ MemoryBudget memory_budget(const SceneConfig& scene, int processes_on_machine) {
 RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budget) {
   RunEstimate e;
   const int D = scene.dimension;
+#ifndef KOKKOS_ENABLE_OPENMP
+  if (scene.backend == Backend::OpenMP)
+    refuse("Run/Backend = openmp, but this build's Kokkos has no OpenMP backend (Debian's is Serial only); "
+           "build one with scripts/build-trilinos-openmp.sh and configure with cmake --preset openmp");
+#endif
   try {
     e.derived = derive_parameters(scene);
     // The paper's process grid must match the number of processes (RCB fits any).

@@ -1,8 +1,10 @@
-// poresph SCENE.xml [--set "Sublist/Parameter Name=value" ...] [--output DIR]
+// poresph SCENE.xml [--set "Sublist/Parameter Name=value" ...] [--output DIR] [--restart FILE] [--overwrite]
 #include <Kokkos_Core.hpp>
 #include <mpi.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -13,59 +15,77 @@
 #include "app/Run.hpp"
 #include "app/SceneCheck.hpp"
 #include "app/Simulation.hpp"
-#include "io/Summary.hpp"
+#include "io/Hdf5File.hpp"
+#include "io/OutputDirectory.hpp"
 #include "io/Parameters.hpp"
+#include "io/Summary.hpp"
+#include "io/TextValues.hpp"
 
 namespace {
 
 constexpr const char* kUsage =
     "usage: poresph SCENE.xml [--set \"Sublist/Parameter Name=value\"]... [--output DIR] [--restart CHECKPOINT.h5]\n"
+    "                         [--overwrite]\n"
     "       poresph --help-parameters    every scene parameter with its default and documentation\n"
+    "--output DIR (default poresph-NAME) must not hold another run's results; --overwrite removes them first.\n"
     "--restart continues the run saved in a checkpoint (Output/Checkpoint Interval, Output/Final Checkpoint)\n"
-    "with the scene's parameters; on as many processes as wrote it, bit for bit.\n"
+    "with the scene's parameters; on as many processes as wrote it, bit for bit. Into the checkpoint's own\n"
+    "directory it continues that run's files. The checkpoint must be of the same physics (cell, spacing, fluid,\n"
+    "grains); a mismatch is refused, naming what differs.\n"
     "--inject-nan STEP makes step STEP end with a NaN velocity, to test the failure path.\n"
-    "Exit status: 0 done, 1 error, 2 bad input, 3 the run failed (a checkpoint of the last good state\n"
-    "was written), 128 + signal after SIGINT/SIGTERM (a checkpoint was written).\n"
-    "Kokkos options (--kokkos-threads=N, ...) are passed on to Kokkos.\n";
+    "Exit status: 0 done, 1 error (I/O, MPI), 2 bad input or a refused run (nothing written), 3 the run failed\n"
+    "(a checkpoint of the last good state was written), 128 + signal after SIGINT/SIGTERM.\n"
+    "Kokkos options (--kokkos-threads=N, ...) are passed on to Kokkos. See docs/reliability.md.\n";
 
 struct CommandLine {
   std::string scene_file;
   std::vector<std::string> overrides;
   std::string output_dir;
   std::string restart_file;
+  bool overwrite = false;
   long long inject_nan_at_step = -1;
   bool help = false, help_parameters = false;
   std::vector<char*> kokkos_args;  // argv[0] and every --kokkos-* option
 };
 
 // Our options are read before Kokkos sees argv: Kokkos 3.4 would take a bare
-// --help (or --threads=) as its own.
+// --help (or --threads=) as its own. Teuchos::CommandLineProcessor does not
+// fit this interface (docs/building.md): it reads only --name=value, keeps
+// the last of a repeated --set, and has no place for the scene file.
 CommandLine parse_command_line(int argc, char** argv) {
   CommandLine cl;
   cl.kokkos_args.push_back(argv[0]);
+  // --option VALUE or --option=VALUE; true if argv[i] is `option`.
+  auto is = [&](int i, const std::string& option) {
+    const std::string arg = argv[i];
+    return arg.rfind(option, 0) == 0 && (arg.size() == option.size() || arg[option.size()] == '=');
+  };
   auto value_of = [&](int& i, const std::string& option) -> std::string {
     const std::string arg = argv[i];
     if (arg.size() > option.size() && arg[option.size()] == '=') return arg.substr(option.size() + 1);
     if (i + 1 >= argc) throw poresph::ParameterError(option + " needs a value");
     return argv[++i];
   };
+  auto once = [](std::string& slot, const std::string& option, const std::string& value) {
+    if (!slot.empty()) throw poresph::ParameterError(option + " given twice: '" + slot + "' and '" + value + "'");
+    if (value.empty()) throw poresph::ParameterError(option + " needs a non-empty value");
+    slot = value;
+  };
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") cl.help = true;
     else if (arg == "--help-parameters") cl.help_parameters = true;
-    else if (arg.rfind("--set", 0) == 0 && (arg.size() == 5 || arg[5] == '=')) cl.overrides.push_back(value_of(i, "--set"));
-    else if (arg.rfind("--output", 0) == 0 && (arg.size() == 8 || arg[8] == '=')) cl.output_dir = value_of(i, "--output");
-    else if (arg.rfind("--restart", 0) == 0 && (arg.size() == 9 || arg[9] == '=')) cl.restart_file = value_of(i, "--restart");
-    else if (arg.rfind("--inject-nan", 0) == 0 && (arg.size() == 12 || arg[12] == '=')) {
+    else if (arg == "--overwrite") cl.overwrite = true;
+    else if (is(i, "--overwrite")) throw poresph::ParameterError("--overwrite takes no value");
+    else if (is(i, "--set")) cl.overrides.push_back(value_of(i, "--set"));
+    else if (is(i, "--output")) once(cl.output_dir, "--output", value_of(i, "--output"));
+    else if (is(i, "--restart")) once(cl.restart_file, "--restart", value_of(i, "--restart"));
+    else if (is(i, "--inject-nan")) {
       const std::string step = value_of(i, "--inject-nan");
-      size_t used = 0;
-      try {
-        cl.inject_nan_at_step = std::stoll(step, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || used != step.size() || cl.inject_nan_at_step < 1)
+      const auto parsed = poresph::parse_number<long long>(step);
+      if (!parsed.value || *parsed.value < 1)
         throw poresph::ParameterError("--inject-nan needs a step number >= 1, not '" + step + "'");
+      cl.inject_nan_at_step = *parsed.value;
     }
     else if (arg.rfind("--kokkos-", 0) == 0) cl.kokkos_args.push_back(argv[i]);
     else if (arg.rfind("-", 0) == 0) throw poresph::ParameterError("unknown option " + arg);
@@ -73,6 +93,20 @@ CommandLine parse_command_line(int argc, char** argv) {
     else throw poresph::ParameterError("more than one scene file given: " + cl.scene_file + ", " + arg);
   }
   return cl;
+}
+
+// Every process reaches the same verdict on a check some of them may see
+// differently (the file system, a signal): the first failing process's
+// message is everyone's, so that no process runs on alone into a collective.
+std::string agree(const std::string& problem, int rank, int size) {
+  int first = problem.empty() ? size : rank;
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (first == size) return "";
+  int length = static_cast<int>(problem.size());
+  MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
+  std::string message = rank == first ? problem : std::string(length, '\0');
+  MPI_Bcast(message.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
+  return message;
 }
 
 // Processes of this run on this machine, for the memory check.
@@ -86,10 +120,9 @@ int processes_on_this_machine() {
 }
 
 int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const poresph::SceneConfig& scene,
-        int rank) {
-
+        const poresph::OutputDirectoryPlan& plan, double seconds_before, int rank) {
   poresph::RunOptions options;
-  options.output_dir = cl.output_dir.empty() ? "poresph-" + scene.name : cl.output_dir;
+  options.output_dir = plan.path;
   // Under mpiexec a rank's stdout is a pseudo-terminal even when the
   // launcher's output goes to a log: stay quiet there unless asked.
   const bool under_mpiexec = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE");
@@ -97,36 +130,42 @@ int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const p
   options.restart_file = cl.restart_file;
   options.inject_nan_at_step = cl.inject_nan_at_step;
   options.parameters_xml = poresph::parameters_to_xml(parameters);
+  options.setup_seconds_before = seconds_before;
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  if (rank == 0) {
-    std::filesystem::create_directories(options.output_dir);
-    // The list after defaults, and what ran it: enough to reproduce any output.
-    poresph::write_file_atomically(
-        options.output_dir + "/parameters_used.xml",
-        "<!-- poresph " + std::string(PORESPH_VERSION) + "; backend " + poresph::backend_for(scene) + "; ranks " +
-            std::to_string(ranks) + "; threads per rank " + std::to_string(poresph::threads_for(scene)) +
-            (cl.restart_file.empty() ? "" : "; restarted from " + cl.restart_file) + " -->\n" +
-            options.parameters_xml);
-  }
+  // Claimed once the run has set up, so that a run refused on the way writes nothing.
+  options.prepare_output = [&]() {
+    if (rank == 0) {
+      poresph::prepare_output_directory(plan);
+      // The list after defaults, and what ran it: enough to reproduce any output.
+      poresph::write_file_atomically(
+          plan.path + "/parameters_used.xml",
+          "<!-- poresph " + std::string(PORESPH_VERSION) + "; backend " + poresph::backend_for(scene) + "; ranks " +
+              std::to_string(ranks) + "; threads per rank " + std::to_string(poresph::threads_for(scene)) +
+              (cl.restart_file.empty() ? "" : "; restarted from " + cl.restart_file) + " -->\n" +
+              options.parameters_xml);
+    }
+    MPI_Barrier(MPI_COMM_WORLD);  // the directory exists before any process writes into it
+  };
   if (rank == 0)
     for (const auto& warning : scene.warnings) std::cerr << "poresph: warning: " << warning << "\n";
-  MPI_Barrier(MPI_COMM_WORLD);  // the directory exists before any process writes into it
-  poresph::install_stop_signal_handlers();
   const auto report = poresph::run_scene(scene, options);
   if (rank == 0)
     std::cout << "poresph: " << scene.name << ": " << report.steps << " steps to t = " << report.simulated_time
-            << " s in " << report.wall_seconds << " s; summary in " << options.output_dir << "/summary.json\n";
+              << " s in " << report.wall_seconds << " s; summary in " << options.output_dir << "/summary.json\n";
   return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  const auto start = std::chrono::steady_clock::now();
   MPI_Init(&argc, &argv);
-  int rank = 0;
+  // At once: a SIGTERM during set-up (reading a large scene) must stop the run, not be lost.
+  poresph::install_stop_signal_handlers();
+  int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  int status = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
   CommandLine cl;
   try {
     cl = parse_command_line(argc, argv);
@@ -135,38 +174,67 @@ int main(int argc, char** argv) {
     MPI_Finalize();
     return 2;
   }
-  // The scene is read and checked before Kokkos starts: Run/Threads configures it.
+  if (cl.help || cl.help_parameters) {
+    if (rank == 0) {
+      if (cl.help) std::cout << kUsage;
+      else poresph::print_valid_parameters(std::cout);
+    }
+    MPI_Finalize();
+    return 0;
+  }
+  // Everything that can refuse the run is checked before Kokkos starts (Run/Threads configures it) and
+  // before anything is written: the scene, what it needs, the checkpoint, the output directory.
   Teuchos::RCP<Teuchos::ParameterList> parameters;
   poresph::SceneConfig scene;
+  poresph::OutputDirectoryPlan plan;
+  std::string problem;
   try {
-    if (cl.help || cl.help_parameters) {
-      if (rank == 0) {
-        if (cl.help) std::cout << kUsage;
-        else poresph::print_valid_parameters(std::cout);
-      }
-      MPI_Finalize();
-      return 0;
-    }
     if (cl.scene_file.empty()) throw poresph::ParameterError(std::string("no scene file given\n") + kUsage);
     parameters = poresph::read_parameters(cl.scene_file, cl.overrides);
     scene = poresph::scene_from_parameters(*parameters,
                                            std::filesystem::absolute(cl.scene_file).parent_path().string());
-    int ranks = 1;
-    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-    // What the run needs, before it allocates anything.
-    poresph::check_scene(scene, ranks, poresph::memory_budget(scene, processes_on_this_machine()));
+    const int on_machine = processes_on_this_machine();
+    poresph::check_scene(scene, size, poresph::memory_budget(scene, on_machine));
   } catch (const std::exception& e) {
-    if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
+    problem = e.what();
+  }
+  problem = agree(problem, rank, size);
+  if (problem.empty() && !cl.restart_file.empty()) {
+    // Every process opens the checkpoint, and they agree on what they found.
+    std::string why = poresph::hdf5_file_problem(cl.restart_file);
+    if (!why.empty()) why = "--restart " + cl.restart_file + ": " + why;
+    problem = agree(why, rank, size);
+  }
+  if (problem.empty()) {
+    try {
+      plan = poresph::plan_output_directory(cl.output_dir.empty() ? "poresph-" + scene.name : cl.output_dir,
+                                            cl.restart_file, cl.overwrite);
+    } catch (const std::exception& e) {
+      problem = e.what();
+    }
+    problem = agree(problem, rank, size);
+  }
+  if (!problem.empty()) {
+    if (rank == 0) std::cerr << "poresph: error: " << problem << "\n";
     MPI_Finalize();
     return 2;
+  }
+  if (const int signal_number = poresph::stop_signal_received()) {
+    if (rank == 0)
+      std::cerr << "poresph: stopped by " << (signal_number == SIGINT ? "SIGINT" : "SIGTERM")
+                << " during set-up; nothing was written\n";
+    MPI_Finalize();
+    return 128 + signal_number;
   }
   std::vector<char*> kokkos_args = cl.kokkos_args;
   std::string threads_arg = "--kokkos-threads=" + std::to_string(scene.threads);
   if (scene.threads > 0) kokkos_args.push_back(threads_arg.data());
   int kokkos_argc = static_cast<int>(kokkos_args.size());
   Kokkos::initialize(kokkos_argc, kokkos_args.data());
+  int status = 0;
   try {
-    status = run(cl, *parameters, scene, rank);
+    status = run(cl, *parameters, scene, plan,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), rank);
   } catch (const poresph::ParameterError& e) {
     if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
     status = 2;

@@ -1,6 +1,10 @@
 #include "io/Hdf5File.hpp"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <type_traits>
 
@@ -205,6 +209,22 @@ std::string Hdf5File::string_attribute(const std::string& name) const {
   if (H5Aread(attribute.id, type.id, value.data()) < 0) fail("cannot read attribute " + name);
   while (!value.empty() && value.back() == '\0') value.pop_back();
   return value;
+}
+
+std::string hdf5_file_problem(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const auto status = fs::status(path, error);
+  if (!fs::exists(status)) return "no such file";
+  if (fs::is_directory(status)) return "it is a directory, not a file";
+  if (!fs::is_regular_file(status)) return "it is not a regular file";
+  std::ifstream in(path, std::ios::binary);
+  char signature[8] = {};
+  if (!in.read(signature, sizeof signature)) return in.is_open() ? "it is too short to be an HDF5 file" : std::strerror(errno);
+  // The HDF5 superblock signature; PoreSPH writes no user block before it.
+  static const char hdf5[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  if (std::memcmp(signature, hdf5, sizeof hdf5) != 0) return "it is not an HDF5 file";
+  return "";
 }
 
 void write_hdf5_atomically(const std::string& path, MPI_Comm comm, const std::function<void(Hdf5File&)>& fill) {

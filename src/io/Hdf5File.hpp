@@ -61,6 +61,12 @@ class Hdf5File {
   hid_t transfer_ = -1;  // collective transfers
 };
 
+// Why `path` cannot be read as an HDF5 file, or "" if it can be tried: it is
+// missing, a directory or not a regular file, unreadable, or does not start
+// with the HDF5 signature. Asked before opening: MPI-IO prints its own
+// complaints, dozens of lines on several processes, about a directory.
+std::string hdf5_file_problem(const std::string& path);
+
 // Every process of comm writes through fill() into PATH.tmp; once the file
 // is closed on all of them, rank 0 renames it to PATH. A crash in between
 // leaves the previous PATH (or none), never a truncated one.

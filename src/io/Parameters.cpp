@@ -52,7 +52,9 @@ RCP<ParameterList> make_valid_parameters() {
   auto list = rcp(new ParameterList("PoreSPH"));
   {
     auto& s = list->sublist("Scene", false, "What the run is called.");
-    s.set("Name", std::string("scene"), "Name written to summary.json.");
+    s.set("Name", std::string("scene"),
+          "Name written to summary.json; the output directory is poresph-NAME unless --output names one. "
+          "No path separators.");
   }
   {
     auto& s = list->sublist("Domain", false, "The periodic unit cell [0, L_x) x [0, L_y) (x [0, L_z)).");
@@ -457,6 +459,11 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   SceneConfig scene;
   auto fail = [](const std::string& msg) { throw ParameterError(msg); };
   scene.name = list.sublist("Scene").get<std::string>("Name");
+  // The name makes the default output directory, poresph-NAME: it must not
+  // lead anywhere else.
+  if (scene.name.find_first_of("/\\") != std::string::npos)
+    fail("Scene/Name '" + scene.name + "' contains a path separator; name the output directory with --output");
+  if (scene.name.find('\0') != std::string::npos) fail("Scene/Name contains a NUL character");
 
   const auto& domain = list.sublist("Domain");
   const auto cell = domain.get<Array<double>>("Cell Size");
