@@ -34,8 +34,19 @@ struct Throat {
   double gap;           // surface to surface
 };
 
-// Throats open (gap > 0) but narrower than max_gap, narrowest first.
-std::vector<Throat> narrow_throats(const std::vector<Grain>& grains, const SceneConfig& scene, double max_gap);
+// Throats open (gap > 0) but narrower than max_gap: how many there are, and
+// the `keep` narrowest of them, narrowest first (equal gaps in input order).
+// A packing far finer than the spacing can have a narrow throat at every
+// grain; the count keeps the memory bounded without hiding how many.
+struct ThroatSurvey {
+  std::vector<Throat> narrowest;
+  long long count = 0;
+};
+ThroatSurvey narrow_throats(const std::vector<Grain>& grains, const SceneConfig& scene, double max_gap,
+                            size_t keep);
+
+// Warnings listed one by one; beyond this many, one more says how many others there are.
+constexpr size_t kThroatWarnings = 100;
 
 // A throat narrower than the particle spacing holds no fluid particle, so
 // the flow through it would be silently lost: refused, naming the grains

@@ -352,8 +352,31 @@ def class_7_messages():
     report("setup_seconds covers the set-up", problems, output)
 
 
+def class_8_setup_time():
+    """Set-up grows linearly with the number of grains: 40,000 grains are checked in seconds (86 s before)."""
+    base = fresh("many-grains")
+    files = os.path.dirname(base)
+    import random
+    rng = random.Random(3)
+    lines = [f"{(a + 0.5) * 0.005 + rng.uniform(-5e-4, 5e-4):.9f} {(b + 0.5) * 0.005 + rng.uniform(-5e-4, 5e-4):.9f} 0.0015"
+             for a in range(200) for b in range(200)]
+    grains = write(os.path.join(files, "grains40k.txt"), "\n".join(lines) + "\n")
+    for name, settings, message in [
+        ("40,000 grains are read and checked, then the run refused for memory",
+         ["Discretization/Particle Spacing=0.0002", "Run/Memory Limit=1e-6"], r"needs about 25000000 particles"),
+        ("40,000 grains at a spacing coarser than their gaps: refused naming the narrowest throat",
+         ["Discretization/Particle Spacing=0.005"], r"narrower than one spacing.*\([0-9]+ throats are narrower")]:
+        args = [TINY, "--output", base, "--set", f"Grains/File={grains}"]
+        for setting in settings:
+            args += ["--set", setting]
+        start = time.monotonic()
+        case(name, args, 2, message, absent(base))
+        elapsed = time.monotonic() - start
+        report(f"  ... in {elapsed:.1f} s (limit 30 s)", [] if elapsed < 30 else [f"took {elapsed:.1f} s"])
+
+
 CLASSES = {"1": class_1_counts, "2": class_2_xml, "3": class_3_grains, "5": class_5_output_directories,
-           "7": class_7_messages}
+           "7": class_7_messages, "8": class_8_setup_time}
 os.makedirs(WORK, exist_ok=True)
 os.chdir(WORK)  # a default output directory (poresph-NAME) lands here, never in the source tree
 CLASSES[CLASS]()
