@@ -375,8 +375,29 @@ def class_8_setup_time():
         report(f"  ... in {elapsed:.1f} s (limit 30 s)", [] if elapsed < 30 else [f"took {elapsed:.1f} s"])
 
 
+def class_9_tests_stay():
+    """A test of an optional tool is always registered, and skips (status 77) only when the tool is absent now."""
+    listed = subprocess.run([os.environ["CTEST"], "-N"], cwd=os.environ["BUILD_DIR"], capture_output=True,
+                            text=True).stdout
+    for test in ["stokes_reference_square_arrays", "navier_stokes_reference_lattice", "cli_xdmf_paraview"]:
+        report(f"{test} is in CTest's list", [] if re.search(rf"Test +#[0-9]+: {test}\n", listed) else ["not listed"])
+    skip = os.environ["SKIP_WITHOUT"]
+    no_tools = dict(ENV, PATH="/nonexistent")
+    done = subprocess.run(["/bin/bash", skip, "FreeFem++-nw", "--", "/bin/true"], env=no_tools, capture_output=True,
+                          text=True)
+    report("without FreeFem++ on PATH the test reports 77 (skipped) and why",
+           [] if done.returncode == 77 and "FreeFem++-nw is not on PATH" in done.stdout
+           else [f"status {done.returncode}: {done.stdout}"])
+    # A tool that is there runs the test, and its failure is a failure, not a skip.
+    for command, status in [("/bin/true", 0), ("/bin/false", 1)]:
+        done = subprocess.run([skip, "sh", "--", command], capture_output=True, text=True)
+        report(f"with the tool on PATH the test runs ({command} gives {status})",
+               [] if done.returncode == status else [f"status {done.returncode}"])
+
+
 CLASSES = {"1": class_1_counts, "2": class_2_xml, "3": class_3_grains, "5": class_5_output_directories,
-           "7": class_7_messages, "8": class_8_setup_time}
+           "7": class_7_messages, "8": class_8_setup_time,
+           "9": class_9_tests_stay}
 os.makedirs(WORK, exist_ok=True)
 os.chdir(WORK)  # a default output directory (poresph-NAME) lands here, never in the source tree
 CLASSES[CLASS]()
