@@ -29,6 +29,17 @@ template <class... Parts>
   throw ParameterError(msg.str());
 }
 
+// Lattice points within the neighbour-list radius of a particle: 3h, and
+// the skin for particles that move (fixed ones are listed without).
+double list_reach(const SceneConfig& s) {
+  const double skin = s.particle_motion == ParticleMotion::Fixed ? 0.0 : s.neighbour_skin;
+  return (kSupportRadiusInH + skin) * s.smoothing_length_ratio;  // in spacings
+}
+double neighbour_ball(const SceneConfig& s) {
+  const double r = list_reach(s);
+  return s.dimension == 2 ? kPi * r * r : 4.0 / 3.0 * kPi * r * r * r;
+}
+
 // Bytes one particle slot (owned or ghost) of a process costs while the run
 // steps, and at set-up. An estimate from the storage the code allocates,
 // not a measurement: core/Particles.hpp, the half neighbour list, the
@@ -45,10 +56,12 @@ SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   if (surfaces) fields += (D + 1) * 8.0;
   if (shifting) fields += 2.0 * D * 8;
   fields *= 1.25;  // Particles::reserve grows by a quarter
-  // Half of the neighbours within (3 + skin) h, 4-byte indices, grown by a quarter, plus offsets.
-  const double reach = (kSupportRadiusInH + s.neighbour_skin) * s.smoothing_length_ratio;  // in spacings
-  const double ball = D == 2 ? kPi * reach * reach : 4.0 / 3.0 * kPi * reach * reach * reach;
-  const double list = (0.5 * ball * 4 + 2 * 4) * 1.25;
+  // Half of the neighbours within 3h (+ skin for moving particles), 4-byte
+  // indices grown by a quarter, plus offsets; fixed particles cache each
+  // entry's separation and kernel derivative besides, D + 1 doubles.
+  const double pairs = 0.5 * neighbour_ball(s);
+  double list = (pairs * 4 + 2 * 4) * 1.25;
+  if (s.particle_motion == ParticleMotion::Fixed) list += pairs * (D + 1) * 8.0;
   const double sums = std::max(1, threads) * (D + 1.0 + (shifting ? D + 1.0 : 0.0)) * 8;
   const double cells = 2 * 4;
   // SeedParticle (x, v, wall_vector, wall_scalar, id, kind) and, with
@@ -172,10 +185,9 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   const SlotBytes slot = bytes_per_slot(scene, threads);
   const double owned = static_cast<double>(e.particles) / ranks;
   const double side = std::pow(std::max(owned, 1.0), 1.0 / D);
-  const double layer = (kSupportRadiusInH + scene.neighbour_skin) * scene.smoothing_length_ratio;
+  const double layer = list_reach(scene);  // ghosts reach as far as the lists
   const double slots = owned * std::pow((side + 2 * layer) / side, D);
-  const double reach = layer;  // in spacings
-  const double pairs = 0.5 * owned * (D == 2 ? kPi * reach * reach : 4.0 / 3.0 * kPi * reach * reach * reach);
+  const double pairs = 0.5 * owned * neighbour_ball(scene);
   std::ostringstream lattice;
   lattice.precision(4);
   for (int d = 0; d < D; ++d) lattice << (d ? " x " : "") << counts[d];
