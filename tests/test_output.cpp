@@ -18,6 +18,9 @@
 #include "app/Simulation.hpp"
 #include "geometry/Grains.hpp"
 #include "io/Hdf5File.hpp"
+#include "io/Summary.hpp"
+
+#include <nlohmann/json.hpp>
 
 namespace poresph {
 namespace {
@@ -228,10 +231,39 @@ TEST(Checkpoint, FailureIsRecordedInTheSummary) {
   EXPECT_THROW(run_to(moving_grain_cell(), 20, dir, "", 10), SimulationFailure);
   MPI_Barrier(MPI_COMM_WORLD);
   std::ifstream summary(dir + "/summary.json");
-  std::stringstream text;
-  text << summary.rdbuf();
-  EXPECT_NE(text.str().find("\"stopped_by\": \"failure\""), std::string::npos) << text.str();
-  EXPECT_NE(text.str().find("NaN or Inf"), std::string::npos) << text.str();
+  const auto json = nlohmann::json::parse(summary);  // read back as scripts read it
+  EXPECT_EQ(json.at("stopped_by"), "failure");
+  EXPECT_NE(json.at("failure").get<std::string>().find("NaN or Inf"), std::string::npos) << json.dump(2);
+  EXPECT_EQ(json.at("steps"), 9);  // the last good step
+}
+
+// summary.json reads back as written: strings with control characters and
+// quotes, numbers to the last bit, NaN as null, keys in their order; bytes
+// that are not UTF-8 (a file name in another encoding) become U+FFFD rather
+// than an unreadable file.
+TEST(Summary, ReadsBackAsWritten) {
+  JsonObject inner;
+  inner.add("kxx", 0.1).add("kyx", -1.2345678901234567e-300);
+  const std::string awkward = std::string("tab\there, \"quoted\", back\\slash, bell\x07, nul") + '\0' + "end";
+  JsonObject json;
+  json.add("scene", awkward)
+      .add("steps", 123456789012345LL)
+      .add("steady", true)
+      .add("nan", std::numeric_limits<double>::quiet_NaN())
+      .add("permeability", inner)
+      .add("warnings", std::vector<std::string>{"line one\nline two", "\xff\xfe not UTF-8"});
+  const auto back = nlohmann::ordered_json::parse(json.str());
+  EXPECT_EQ(back.at("scene").get<std::string>(), awkward);
+  EXPECT_EQ(back.at("steps").get<long long>(), 123456789012345LL);
+  EXPECT_EQ(back.at("steady"), true);
+  EXPECT_TRUE(back.at("nan").is_null());
+  EXPECT_EQ(back.at("permeability").at("kxx").get<double>(), 0.1);
+  EXPECT_EQ(back.at("permeability").at("kyx").get<double>(), -1.2345678901234567e-300);
+  EXPECT_EQ(back.at("warnings").at(0).get<std::string>(), "line one\nline two");
+  EXPECT_EQ(back.at("warnings").at(1).get<std::string>(), "\xef\xbf\xbd\xef\xbf\xbd not UTF-8");
+  std::vector<std::string> keys;
+  for (const auto& item : back.items()) keys.push_back(item.key());
+  EXPECT_EQ(keys, (std::vector<std::string>{"scene", "steps", "steady", "nan", "permeability", "warnings"}));
 }
 
 // Each cause, and the order in which they are named.

@@ -1,93 +1,83 @@
 #include "io/Summary.hpp"
 
-#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include <cerrno>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
+#include <cstring>
 #include <stdexcept>
 
 namespace poresph {
-namespace {
 
-std::string quote(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\', out += c;
-    else if (c == '\n') out += "\\n";
-    else if (static_cast<unsigned char>(c) < 0x20) out += ' ';
-    else out += c;
-  }
-  return out + "\"";
+JsonObject::JsonObject() : value_(std::make_unique<nlohmann::ordered_json>(nlohmann::ordered_json::object())) {}
+JsonObject::JsonObject(const JsonObject& other) : value_(std::make_unique<nlohmann::ordered_json>(*other.value_)) {}
+JsonObject& JsonObject::operator=(const JsonObject& other) {
+  *value_ = *other.value_;
+  return *this;
 }
-
-}  // namespace
+JsonObject::~JsonObject() = default;
 
 JsonObject& JsonObject::add(const std::string& key, double value) {
-  // JSON has no NaN or Inf: write null so that a reader sees "no number".
-  char buffer[32] = "null";
-  if (std::isfinite(value)) std::snprintf(buffer, sizeof buffer, "%.17g", value);
-  members_.push_back({key, Kind::Scalar, buffer, {}, {}});
+  (*value_)[key] = value;  // NaN and infinity are written as null: "no number"
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, long long value) {
-  members_.push_back({key, Kind::Scalar, std::to_string(value), {}, {}});
+  (*value_)[key] = value;
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, bool value) {
-  members_.push_back({key, Kind::Scalar, value ? "true" : "false", {}, {}});
+  (*value_)[key] = value;
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, const std::string& value) {
-  members_.push_back({key, Kind::Scalar, quote(value), {}, {}});
+  (*value_)[key] = value;
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, const JsonObject& value) {
-  members_.push_back({key, Kind::Object, {}, {value}, {}});
+  (*value_)[key] = *value.value_;
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, const std::vector<JsonObject>& values) {
-  members_.push_back({key, Kind::Array, {}, values, {}});
+  auto array = nlohmann::ordered_json::array();
+  for (const auto& v : values) array.push_back(*v.value_);
+  (*value_)[key] = std::move(array);
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, const std::vector<std::string>& values) {
-  members_.push_back({key, Kind::StringArray, {}, {}, values});
+  (*value_)[key] = values;
   return *this;
 }
 
-std::string JsonObject::str(int indent) const {
-  const std::string pad(indent + 2, ' '), end_pad(indent, ' ');
-  std::ostringstream out;
-  out << "{";
-  for (size_t k = 0; k < members_.size(); ++k) {
-    const Member& m = members_[k];
-    out << (k ? ",\n" : "\n") << pad << quote(m.key) << ": ";
-    if (m.kind == Kind::Scalar) {
-      out << m.scalar;
-    } else if (m.kind == Kind::StringArray) {
-      out << "[";
-      for (size_t i = 0; i < m.strings.size(); ++i) out << (i ? ", " : "") << quote(m.strings[i]);
-      out << "]";
-    } else if (m.kind == Kind::Object) {
-      out << m.children.front().str(indent + 2);
-    } else {
-      out << "[";
-      for (size_t i = 0; i < m.children.size(); ++i) out << (i ? ", " : "") << m.children[i].str(indent + 2);
-      out << "]";
-    }
-  }
-  out << "\n" << end_pad << "}";
-  return out.str();
+std::string JsonObject::str() const {
+  // Messages may quote file names in any encoding: replace what is not UTF-8 rather than fail.
+  return value_->dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
 void write_file_atomically(const std::string& path, const std::string& text) {
   const std::string temporary = path + ".tmp";
-  {
-    std::ofstream file(temporary, std::ios::trunc);
-    file << text;
-    file.flush();
-    if (!file) throw std::runtime_error("cannot write " + temporary);
+  auto fail = [&](const std::string& what, int error) {
+    std::remove(temporary.c_str());
+    throw std::runtime_error("cannot write " + path + ": " + what + ": " + std::strerror(error));
+  };
+  errno = 0;
+  std::FILE* file = std::fopen(temporary.c_str(), "wb");
+  if (!file) fail("cannot create " + temporary, errno);
+  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size() && std::fflush(file) == 0;
+  const int write_error = errno;
+  if (std::fclose(file) != 0 || !written) fail("writing " + temporary, written ? errno : write_error);
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) fail("renaming " + temporary, errno);
+}
+
+void write_summary_file(const std::string& path, const std::string& text) {
+  try {
+    write_file_atomically(path, text);
+  } catch (const std::exception& e) {
+    const bool removed = std::remove(path.c_str()) == 0;
+    throw std::runtime_error(std::string(e.what()) +
+                             (removed ? "; the earlier summary.json was removed, so that it is not taken for this "
+                                        "run's"
+                                      : ""));
   }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot rename " + temporary);
 }
 
 }  // namespace poresph

@@ -1,6 +1,13 @@
 #pragma once
-// summary.json: a flat-ish JSON object for scripts, written to a temporary
-// name and renamed, so that a reader never sees half a file.
+// summary.json: a JSON object for scripts, built member by member in a fixed
+// key order and written by nlohmann-json (Debian's nlohmann-json3-dev), which
+// escapes every string so that it reads back as written (control characters
+// included; bytes that are not UTF-8 become U+FFFD) and writes NaN and
+// infinity as null. Files are written to a temporary name and renamed, so
+// that a reader never sees half a file.
+#include <nlohmann/json_fwd.hpp>
+
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -8,6 +15,11 @@ namespace poresph {
 
 class JsonObject {
  public:
+  JsonObject();
+  JsonObject(const JsonObject& other);
+  JsonObject& operator=(const JsonObject& other);
+  ~JsonObject();
+
   JsonObject& add(const std::string& key, double value);
   JsonObject& add(const std::string& key, long long value);
   JsonObject& add(const std::string& key, int value) { return add(key, static_cast<long long>(value)); }
@@ -17,21 +29,22 @@ class JsonObject {
   JsonObject& add(const std::string& key, const JsonObject& value);
   JsonObject& add(const std::string& key, const std::vector<JsonObject>& values);
   JsonObject& add(const std::string& key, const std::vector<std::string>& values);
-  std::string str(int indent = 0) const;
+  // The text, indented by two spaces.
+  std::string str() const;
+  const nlohmann::ordered_json& json() const { return *value_; }
 
  private:
-  enum class Kind { Scalar, Object, Array, StringArray };
-  struct Member {
-    std::string key;
-    Kind kind;
-    std::string scalar;               // serialised number, bool or string
-    std::vector<JsonObject> children; // one for Object, any number for Array
-    std::vector<std::string> strings; // StringArray
-  };
-  std::vector<Member> members_;
+  std::unique_ptr<nlohmann::ordered_json> value_;
 };
 
-// Writes text to path through path + ".tmp" and a rename.
+// Writes text to path through path + ".tmp" and a rename. On failure (a full
+// disk, say) throws with the reason, removes the temporary file, and leaves
+// an earlier file under `path` as it was.
 void write_file_atomically(const std::string& path, const std::string& text);
+
+// summary.json, through write_file_atomically. If it cannot be written, an
+// earlier summary.json there is removed before the error is thrown: a
+// summary of another state of the run must not be taken for this one's.
+void write_summary_file(const std::string& path, const std::string& text);
 
 }  // namespace poresph
