@@ -342,20 +342,32 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   } catch (const SimulationFailure& failure) {
     progress.finish();
     sim.rewind_failed_step();
-    checkpoint(false);
+    std::string saved = "; the last good state (step " + std::to_string(sim.steps()) + ") is in " + checkpoint_path;
+    try {
+      checkpoint(false);
+    } catch (const std::exception& error) {  // the failure is still the news; the lost checkpoint is said too
+      saved = "; the last good state (step " + std::to_string(sim.steps()) + ") could not be saved: " + error.what();
+    }
     record("failure", seconds_since(loop_start));
-    report.failure = std::string(failure.what()) + "; the last good state (step " + std::to_string(sim.steps()) +
-                     ") is in " + checkpoint_path;
+    report.failure = std::string(failure.what()) + saved;
     throw SimulationFailure(report.failure, failure.step, failure.time);
+  } catch (const RunInterrupted&) {
+    throw;
+  } catch (const std::exception& error) {  // a file that could not be written: summary.json says so
+    progress.finish();
+    record("error", seconds_since(loop_start));
+    report.failure = error.what();
+    throw;
   }
   const double loop_seconds = seconds_since(loop_start);
   progress.finish();
   check();
   if (channel) sample_profile(sim.time());
-  if (scene.write_final_particles) write_particles_csv(sim, options.output_dir + "/particles" + suffix + ".csv");
-  if (write_fields && fields.frame_steps().back() != sim.steps()) fields.write(sim);
+  // Recorded before the last files are written: if one of them fails, summary.json still describes the run.
   record(stop_when_steady && monitor.steady() ? "steady_state" : sim.steps() >= steps_to_end ? "end_time" : "max_steps",
          loop_seconds);
+  if (scene.write_final_particles) write_particles_csv(sim, options.output_dir + "/particles" + suffix + ".csv");
+  if (write_fields && fields.frame_steps().back() != sim.steps()) fields.write(sim);
   if (scene.final_checkpoint) checkpoint(true);
 }
 
@@ -412,8 +424,18 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
       for (const auto& g : scene.grains) diameter += 2 * g.radius / scene.grains.size();
       report.reynolds_number = std::sqrt(speed) / report.porosity * diameter / scene.kinematic_viscosity;
     }
-    if (Communicator().rank() == 0)
-      write_file_atomically(options.output_dir + "/summary.json", report.to_json().str() + "\n");
+    if (Communicator().rank() == 0) write_summary_file(options.output_dir + "/summary.json", report.to_json().str() + "\n");
+  };
+  // summary.json at every ending once the directory is claimed, a failed write
+  // included; what stopped the run stays the message, with the summary's own
+  // failure added to it.
+  auto summary_problem = [&]() -> std::string {
+    try {
+      write_summary();
+      return "";
+    } catch (const std::exception& error) {
+      return std::string("; ") + error.what();
+    }
   };
   try {
     if (scene.permeability_tensor) {
@@ -425,15 +447,19 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
         throw std::invalid_argument("--restart: the checkpoint is of a Permeability/Tensor run");
       run_axis(-1);
     }
-  } catch (const SimulationFailure&) {
-    write_summary();  // what was measured up to the failure, and the failure itself
-    throw;
+  } catch (const SimulationFailure& failure) {
+    // What was measured up to the failure, and the failure itself.
+    throw SimulationFailure(failure.what() + summary_problem(), failure.step, failure.time);
   } catch (const RunInterrupted& interrupted) {
     // Interrupted during the first set-up: nothing was written, nor is now.
-    if (!output_claimed) throw RunInterrupted(std::string(interrupted.what()) + "; nothing was written",
-                                              interrupted.signal_number);
-    write_summary();
-    throw;
+    if (!output_claimed)
+      throw RunInterrupted(std::string(interrupted.what()) + "; nothing was written", interrupted.signal_number);
+    throw RunInterrupted(interrupted.what() + summary_problem(), interrupted.signal_number);
+  } catch (const std::exception& error) {
+    if (!output_claimed) throw;  // refused during set-up: nothing is written
+    if (report.stopped_by.empty()) report.stopped_by = "error";
+    if (report.failure.empty()) report.failure = error.what();
+    throw std::runtime_error(error.what() + summary_problem());
   }
   write_summary();
   return report;

@@ -1,5 +1,7 @@
 #include "io/Hdf5File.hpp"
 
+#include <sys/statvfs.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -54,12 +56,80 @@ Hdf5File::Hdf5File(const std::string& path, Mode mode, MPI_Comm comm) : path_(pa
   H5Pset_dxpl_mpio(transfer_, H5FD_MPIO_COLLECTIVE);
 }
 
+namespace {
+bool left_broken = false;
+}  // namespace
+
+bool hdf5_left_broken() { return left_broken; }
+
 Hdf5File::~Hdf5File() {
   if (transfer_ >= 0) H5Pclose(transfer_);
-  if (file_ >= 0) H5Fclose(file_);
+  // A close that fails (its last write on a full disk) leaves the file half
+  // closed in HDF5 1.10.8, which crashes when it tries again at MPI_Finalize.
+  if (file_ >= 0 && H5Fclose(file_) < 0) left_broken = true;
 }
 
-void Hdf5File::fail(const std::string& what) const { throw std::runtime_error(path_ + ": " + what); }
+void Hdf5File::close() {
+  if (transfer_ >= 0) H5Pclose(transfer_);
+  transfer_ = -1;
+  const hid_t file = file_;
+  file_ = -1;
+  if (file >= 0 && H5Fclose(file) < 0) {
+    left_broken = true;
+    fail("cannot complete the file (writing its last data and metadata)");
+  }
+}
+
+namespace {
+
+// The innermost entries of HDF5's error stack: the reason ("No space left on
+// device" from the MPI-IO layer) that the failed API call alone does not give.
+std::string hdf5_reason() {
+  std::vector<std::string> reasons;
+  const H5E_walk2_t collect = [](unsigned, const H5E_error2_t* error, void* data) -> herr_t {
+    auto& found = *static_cast<std::vector<std::string>*>(data);
+    if (error->desc && *error->desc) found.push_back(error->desc);
+    return found.size() >= 2;  // the two deepest say what happened; the rest is the call chain
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, collect, &reasons);
+  H5Eclear2(H5E_DEFAULT);
+  std::string text;
+  for (const auto& r : reasons) text += (text.empty() ? "" : "; ") + r;
+  return text;
+}
+
+// What the file system holding `path` has left: HDF5's MPI-IO driver
+// reports a short write without the reason, and errno is gone by then; a
+// full disk is the usual one, and this says whether it is.
+std::string free_space(const std::string& path) {
+  struct statvfs fs {};
+  const std::string dir = std::filesystem::absolute(path).parent_path().string();
+  if (statvfs(dir.c_str(), &fs) != 0) return "";
+  const double available = static_cast<double>(fs.f_bavail) * fs.f_frsize;
+  const double total = static_cast<double>(fs.f_blocks) * fs.f_frsize;
+  auto size = [](double bytes) {
+    const char* units[] = {"B", "kB", "MB", "GB", "TB", "PB"};
+    int u = 0;
+    while (bytes >= 1000 && u < 5) bytes /= 1000, ++u;
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g %s", bytes, units[u]);
+    return std::string(text);
+  };
+  return (available < 1048576 ? "the disk is full: " : "") + size(available) + " of " + size(total) +
+         " free on its file system";
+}
+
+}  // namespace
+
+void Hdf5File::fail(const std::string& what) const {
+  std::string reason = hdf5_reason();
+  if (what.rfind("cannot write", 0) == 0 || what.rfind("cannot create", 0) == 0 ||
+      what.rfind("cannot complete", 0) == 0) {
+    const std::string space = free_space(path_);
+    if (!space.empty()) reason += (reason.empty() ? "" : "; ") + space;
+  }
+  throw std::runtime_error(path_ + ": " + what + (reason.empty() ? "" : " (" + reason + ")"));
+}
 
 template <class T>
 long long Hdf5File::write_rows(const std::string& name, const T* data, long long local_rows, int columns) {
@@ -78,6 +148,7 @@ long long Hdf5File::write_rows(const std::string& name, const T* data, long long
                                   H5P_DEFAULT),
                        H5Dclose};
   if (dataset.id < 0) fail("cannot create dataset " + name);
+  if (total == 0) return offset;  // an empty array has no storage to write to (HDF5 refuses the write)
   const Handle memory_space{H5Screate_simple(rank_of_data, count, nullptr), H5Sclose};
   select(file_space.id, memory_space.id, start, count, rank_of_data);
   if (H5Dwrite(dataset.id, memory_type<T>(), memory_space.id, file_space.id, transfer_, data) < 0)
@@ -99,6 +170,7 @@ std::vector<T> Hdf5File::read_rows(const std::string& name, long long first, lon
     fail("rows " + std::to_string(first) + ".." + std::to_string(first + count_rows) + " of " + name +
          " are out of range");
   std::vector<T> values(static_cast<size_t>(count_rows) * columns);
+  if (dims[0] == 0) return values;  // every process sees the same empty array: no collective read to join
   const hsize_t start[2] = {static_cast<hsize_t>(first), 0};
   const hsize_t count[2] = {static_cast<hsize_t>(count_rows), columns};
   const Handle memory_space{H5Screate_simple(rank_of_data, count, nullptr), H5Sclose};
@@ -166,12 +238,13 @@ void Hdf5File::set_attribute(const std::string& name, long long value) {
 }
 
 void Hdf5File::set_attribute(const std::string& name, const std::string& value) {
+  // H5T_C_S1 is null-terminated: the size counts the terminator, or readers
+  // that honour it (h5py) lose the last character.
   const Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
-  H5Tset_size(type.id, value.empty() ? 1 : value.size());
+  H5Tset_size(type.id, value.size() + 1);
   const Handle space{H5Screate(H5S_SCALAR), H5Sclose};
   const Handle attribute{H5Acreate2(file_, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
-  const std::string stored = value.empty() ? std::string(1, '\0') : value;
-  if (attribute.id < 0 || H5Awrite(attribute.id, type.id, stored.data()) < 0) fail("cannot write attribute " + name);
+  if (attribute.id < 0 || H5Awrite(attribute.id, type.id, value.c_str()) < 0) fail("cannot write attribute " + name);
 }
 
 hid_t Hdf5File::open_attribute(const std::string& name) const {
@@ -229,17 +302,21 @@ std::string hdf5_file_problem(const std::string& path) {
 
 void write_hdf5_atomically(const std::string& path, MPI_Comm comm, const std::function<void(Hdf5File&)>& fill) {
   const std::string temporary = path + ".tmp";
-  {
-    Hdf5File file(temporary, Hdf5File::Mode::Create, comm);
-    fill(file);
-  }  // closed (collectively) here
-  MPI_Barrier(comm);
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
+  try {
+    Hdf5File file(temporary, Hdf5File::Mode::Create, comm);
+    fill(file);
+    file.close();  // a full disk often shows only here, when the last blocks are flushed
+  } catch (...) {  // closed by now; a partial file must not stay behind (on a full disk, least of all)
+    if (rank == 0) std::remove(temporary.c_str());
+    throw;
+  }
+  MPI_Barrier(comm);
   int failed = 0;
-  if (rank == 0) failed = std::rename(temporary.c_str(), path.c_str()) != 0;
+  if (rank == 0 && std::rename(temporary.c_str(), path.c_str()) != 0) failed = errno;
   MPI_Bcast(&failed, 1, MPI_INT, 0, comm);
-  if (failed) throw std::runtime_error("cannot rename " + temporary + " to " + path);
+  if (failed) throw std::runtime_error("cannot rename " + temporary + " to " + path + ": " + std::strerror(failed));
 }
 
 }  // namespace poresph

@@ -20,6 +20,9 @@ class Hdf5File {
   // Create truncates; every process of comm must call it.
   Hdf5File(const std::string& path, Mode mode, MPI_Comm comm);
   ~Hdf5File();
+  // Closes collectively and throws if the file could not be completed; the
+  // destructor closes too, but cannot report a failure.
+  void close();
   Hdf5File(const Hdf5File&) = delete;
   Hdf5File& operator=(const Hdf5File&) = delete;
 
@@ -40,6 +43,8 @@ class Hdf5File {
   std::vector<long long> shape(const std::string& name) const;
 
   // Scalar and vector attributes of the root group ("/"), written by every process with the same value.
+  // Attributes are kept in the object header, which holds 64 kB: anything that
+  // may grow (a parameter list, a list of frames) belongs in a dataset.
   void set_attribute(const std::string& name, double value);
   void set_attribute(const std::string& name, long long value);
   void set_attribute(const std::string& name, const std::string& value);
@@ -60,6 +65,11 @@ class Hdf5File {
   hid_t file_ = -1;
   hid_t transfer_ = -1;  // collective transfers
 };
+
+// Whether a file failed to close (on a full disk): HDF5 1.10.8 then holds a
+// half-closed file that crashes the process when it tries to close it again
+// at MPI_Finalize, so the program ends without finalizing (app/main.cpp).
+bool hdf5_left_broken();
 
 // Why `path` cannot be read as an HDF5 file, or "" if it can be tried: it is
 // missing, a directory or not a regular file, unreadable, or does not start
