@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <cstdio>
@@ -16,13 +17,16 @@
 #include <tuple>
 #include <utility>
 
-#include "app/Output.hpp"
 #include "app/SceneCheck.hpp"
 #include "app/Simulation.hpp"
 #include "core/ExecutionSpaces.hpp"
 #include "diagnostics/ChannelFlow.hpp"
 #include "diagnostics/PermeabilityMonitor.hpp"
 #include "geometry/Grains.hpp"
+#include "io/Checkpoint.hpp"
+#include "io/FieldWriter.hpp"
+#include "io/HistoryFile.hpp"
+#include "io/OutputDirectory.hpp"
 #include "io/ProgressLine.hpp"
 #include "parallel/Communicator.hpp"
 
@@ -113,7 +117,8 @@ extern "C" void request_stop(int signal_number) { stop_signal = signal_number; }
 // One run of the scene as given (drive_axis < 0) or with |F| along drive_axis.
 template <int Dim, class ExecSpace>
 void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunReport& report,
-              const CheckpointInfo* resume_from, const std::function<void()>& claim_output) {
+              const CheckpointInfo* resume_from, const std::function<void()>& claim_output,
+              const std::string& fingerprint, bool in_place) {
   double force_norm = 0;
   for (int d = 0; d < Dim; ++d) force_norm += scene.body_force[d] * scene.body_force[d];
   force_norm = std::sqrt(force_norm);
@@ -129,7 +134,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   Sim sim(scene, ExecSpace(), world, resume_from ? Sim::Start::Empty : Sim::Start::Lattice,
           resume_from ? checkpoint_boxes<Dim>(*resume_from, world.size()) : std::vector<Box<Dim>>{});
   if (resume_from) {
-    load_checkpoint(sim, options.restart_file, *resume_from);
+    load_checkpoint<Dim>(sim, options.restart_file, *resume_from);
     report.restarted_from_step = sim.steps();
   }
   report.setup_seconds += seconds_since(setup_start);
@@ -143,8 +148,11 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   claim_output();
   const bool root = sim.communicator().rank() == 0;
   const double dt = sim.time_step();
-  // Appended to, not replaced, when a run continues from a checkpoint.
-  const auto open_mode = resume_from ? std::ios::app : std::ios::trunc;
+  // A run continued in its own directory goes on with its files: the
+  // history rows and field frames up to the checkpoint, none after it.
+  const bool continuing = resume_from && in_place;
+  const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
+  if (continuing && root) remove_other_frames(options.output_dir, suffix, resume_from->state.frame_steps);
 
   // Channel start-up profiles (body force along x or moving walls).
   const bool channel = scene.walls == WallType::Channel && drive_axis <= 0;
@@ -154,16 +162,20 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   std::sort(samples.begin(), samples.end());
   size_t next_sample = 0;
   while (next_sample < samples.size() && sim.time() >= samples[next_sample] - 0.5 * dt) ++next_sample;
-  std::ofstream profile_csv;
+  HistoryFile profile_csv;
+  // Rows of the history files so far, counted on every process for the checkpoint.
+  long long profile_rows = continuing ? static_cast<long long>(resume_from->state.profile_rows) : 0;
   if (channel && root) {
-    profile_csv.open(options.output_dir + "/profiles.csv", std::ios::out | open_mode);
-    profile_csv.precision(10);
-    if (!resume_from) profile_csv << "sample_time,time,y,v_x,v_x_series\n";
+    profile_csv.open(options.output_dir + "/profiles.csv", "sample_time,time,y,v_x,v_x_series\n", continuing,
+                     profile_rows);
+    profile_csv.file().precision(10);
   }
   auto sample_profile = [&](double sample_time) {
-    const double e = channel_profile_error(sim, reference, sample_time, profile_csv);
+    const double e = channel_profile_error(sim, reference, sample_time, profile_csv.file());
+    profile_csv.check();
     report.profile_error = std::max(report.profile_error, e);
     report.profile_samples.push_back({sample_time, sim.time(), e});
+    profile_rows += sim.fluid_particles();
   };
 
   // Permeability along the driving axis, checked every few steps; the
@@ -186,13 +198,19 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   // Clamped as a double: a long time scale over a short step would overflow the conversion.
   const long long check_interval =
       static_cast<long long>(std::clamp(std::floor(shortest_scale / (20 * dt)), 1.0, 100.0));
-  std::ofstream history;
+  HistoryFile history;
+  long long history_rows = continuing ? static_cast<long long>(resume_from->state.history_rows) : 0;
   if (measure_k && root) {
-    const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
-    history.open(options.output_dir + "/permeability_history" + suffix + ".csv", std::ios::out | open_mode);
-    history.precision(10);
-    if (!resume_from) PermeabilityMonitor<Dim>::write_header(history, axis);
+    std::ostringstream header;
+    PermeabilityMonitor<Dim>::write_header(header, axis);
+    history.open(options.output_dir + "/permeability_history" + suffix + ".csv", header.str(), continuing,
+                 history_rows);
+    history.file().precision(10);
   }
+  long long last_check = -1;  // the step of the last check, which the end of the run does not repeat in the history
+  // The rows of the scheduled checks and samples: what a checkpoint counts. The
+  // end of a run adds a row of its own that a run continued past it drops.
+  long long scheduled_history_rows = history_rows, scheduled_profile_rows = profile_rows;
   auto check = [&]() {
     const auto density = sim.density_statistics();
     report.max_density_variation = std::max(report.max_density_variation, density.max_variation);
@@ -201,7 +219,14 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     report.particles_inside_grains = std::max(report.particles_inside_grains, inside.particles);
     report.max_grain_penetration =
         std::max(report.max_grain_penetration, inside.max_depth / scene.particle_spacing);
-    if (measure_k) monitor.sample(sim.steps(), sim.time(), sim.superficial_velocity(), root ? &history : nullptr);
+    if (!measure_k) return;
+    // A check at a step already checked (the end of a run on a checking step)
+    // samples k again, as before, but writes no second row.
+    const bool new_row = sim.steps() != last_check;
+    monitor.sample(sim.steps(), sim.time(), sim.superficial_velocity(), new_row ? history.stream() : nullptr);
+    history.check();
+    history_rows += new_row;
+    last_check = sim.steps();
   };
 
   // Fluid put back on grain surfaces: the report's count from earlier runs
@@ -213,16 +238,24 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
   };
 
   // Field files, and checkpoints with what a restart needs to go on.
-  const std::string suffix = drive_axis >= 0 ? std::string("_") + "xyz"[drive_axis] : "";
-  FieldWriter<Dim, ExecSpace> fields(scene, options.output_dir, suffix);
+  FieldWriter<Dim> fields(scene, options.output_dir, suffix);
   const bool write_fields = scene.field_interval > 0;
-  if (resume_from)
+  if (continuing)
     fields.add_earlier_frames(resume_from->state.frame_steps, resume_from->state.frame_times,
                               sim.fluid_particles() + sim.boundary_particles());
-  else if (write_fields)
+  else if (write_fields && !resume_from)
     fields.write(sim);
-  double next_field_time =
-      write_fields ? (std::floor(sim.time() / scene.field_interval + 0.5) + 1) * scene.field_interval : INFINITY;
+  // Frames on the schedule: what a checkpoint lists (the end of a run adds one
+  // of its own, which a run continued past it drops).
+  size_t scheduled_frames = fields.frame_steps().size();
+  // The next frame is due where the run would have written it had it not
+  // stopped: the saved time (under the same interval), not one rounded from
+  // the checkpoint's time, which skipped a frame.
+  double next_field_time = INFINITY;
+  if (write_fields)
+    next_field_time = resume_from && resume_from->state.field_interval == scene.field_interval
+                          ? resume_from->state.next_field_time
+                          : (std::floor(sim.time() / scene.field_interval + 0.5) + 1) * scene.field_interval;
   const std::string checkpoint_path = options.output_dir + "/checkpoint.h5";
   auto checkpoint = [&](bool rates_valid) {
     RunState state;
@@ -235,8 +268,12 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     }
     monitor.detector().save(state.steady_times, state.steady_values);
     state.steady_first_time = monitor.detector().first_time();
-    state.frame_steps = fields.frame_steps();
-    state.frame_times = fields.frame_times();
+    state.frame_steps.assign(fields.frame_steps().begin(), fields.frame_steps().begin() + scheduled_frames);
+    state.frame_times.assign(fields.frame_times().begin(), fields.frame_times().begin() + scheduled_frames);
+    state.field_interval = scene.field_interval;
+    state.next_field_time = next_field_time;
+    state.history_rows = static_cast<double>(scheduled_history_rows);
+    state.profile_rows = static_cast<double>(scheduled_profile_rows);
     state.max_density_variation = report.max_density_variation;
     state.max_density_drift = report.max_density_drift;
     state.particles_inside_grains = static_cast<double>(report.particles_inside_grains);
@@ -244,7 +281,7 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
     const auto [corrections, deepest] = corrections_so_far();
     state.grain_surface_corrections = static_cast<double>(corrections);
     state.max_corrected_depth = deepest;
-    write_checkpoint(sim, checkpoint_path, state, options.parameters_xml, rates_valid);
+    write_checkpoint<Dim>(sim, checkpoint_path, state, options.parameters_xml, fingerprint, rates_valid);
   };
 
   const bool show_progress = root && (scene.progress == ProgressMode::Always ||
@@ -304,12 +341,15 @@ void run_once(SceneConfig scene, int drive_axis, const RunOptions& options, RunR
       // evaluated at the particles' own time, so no interpolation enters.
       while (channel && next_sample < samples.size() && sim.time() >= samples[next_sample] - 0.5 * dt)
         sample_profile(samples[next_sample++]);
+      scheduled_profile_rows = profile_rows;
       if (sim.steps() % check_interval == 0) {
         check();
+        scheduled_history_rows = history_rows;
         if (stop_when_steady && monitor.steady()) break;
       }
       if (sim.time() >= next_field_time - 0.5 * dt) {
         fields.write(sim);
+        scheduled_frames = fields.frame_steps().size();
         next_field_time += scene.field_interval;
       }
       if (scene.checkpoint_interval > 0 && sim.steps() % scene.checkpoint_interval == 0) checkpoint(true);
@@ -385,13 +425,17 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   };
   report.has_grains = !scene.grains.empty();
   report.porosity = porosity(scene.grains, scene);
+  // What defines the physics, recorded in every checkpoint and compared with a restart's.
+  const auto derived = derive_parameters(scene);
+  const std::string fingerprint = physics_fingerprint(scene, derived.time_step, derived.sound_speed);
   std::optional<CheckpointInfo> resume_from;
+  bool in_place = false;
   if (!options.restart_file.empty()) {
     resume_from = read_checkpoint_info(options.restart_file, MPI_COMM_WORLD);
-    if (resume_from->dimension != Dim)
-      throw std::invalid_argument("--restart " + options.restart_file + ": the checkpoint is " +
-                                  std::to_string(resume_from->dimension) + "D, the scene " + std::to_string(Dim) +
-                                  "D");
+    check_checkpoint_matches(*resume_from, options.restart_file, fingerprint);
+    std::error_code error;
+    in_place = std::filesystem::equivalent(std::filesystem::absolute(options.restart_file).parent_path(),
+                                           options.output_dir, error);
     const auto& st = resume_from->state;
     report.max_density_variation = st.max_density_variation;
     report.max_density_drift = st.max_density_drift;
@@ -410,7 +454,7 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   const CheckpointInfo* pending = resume_from ? &*resume_from : nullptr;
   auto run_axis = [&](int axis) {
     if (pending && pending->state.drive_axis != axis) return;  // finished before the checkpoint
-    run_once<Dim, ExecSpace>(scene, axis, options, report, pending, claim_output);
+    run_once<Dim, ExecSpace>(scene, axis, options, report, pending, claim_output, fingerprint, in_place);
     pending = nullptr;
   };
   auto write_summary = [&]() {
@@ -438,13 +482,10 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
     }
   };
   try {
+    // The fingerprint's Permeability/Tensor line guarantees that the checkpoint's axis fits.
     if (scene.permeability_tensor) {
-      if (pending && pending->state.drive_axis < 0)
-        throw std::invalid_argument("--restart: the checkpoint is of a run without Permeability/Tensor");
       for (int axis = 0; axis < Dim; ++axis) run_axis(axis);
     } else {
-      if (pending && pending->state.drive_axis >= 0)
-        throw std::invalid_argument("--restart: the checkpoint is of a Permeability/Tensor run");
       run_axis(-1);
     }
   } catch (const SimulationFailure& failure) {

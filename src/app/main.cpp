@@ -15,6 +15,7 @@
 #include "app/Run.hpp"
 #include "app/SceneCheck.hpp"
 #include "app/Simulation.hpp"
+#include "io/Checkpoint.hpp"
 #include "io/Hdf5File.hpp"
 #include "io/OutputDirectory.hpp"
 #include "io/Parameters.hpp"
@@ -204,6 +205,18 @@ int main(int argc, char** argv) {
     std::string why = poresph::hdf5_file_problem(cl.restart_file);
     if (!why.empty()) why = "--restart " + cl.restart_file + ": " + why;
     problem = agree(why, rank, size);
+    if (problem.empty()) {
+      // The checkpoint must be of this physics, and undamaged in what it says of itself.
+      try {
+        const auto derived = poresph::derive_parameters(scene);
+        const auto info = poresph::read_checkpoint_info(cl.restart_file, MPI_COMM_WORLD);
+        poresph::check_checkpoint_matches(
+            info, cl.restart_file, poresph::physics_fingerprint(scene, derived.time_step, derived.sound_speed));
+      } catch (const std::exception& e) {
+        problem = e.what();
+      }
+      problem = agree(problem, rank, size);
+    }
   }
   if (problem.empty()) {
     try {

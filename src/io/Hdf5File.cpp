@@ -18,6 +18,7 @@ hid_t memory_type() {
   if constexpr (std::is_same_v<T, double>) return H5T_NATIVE_DOUBLE;
   else if constexpr (std::is_same_v<T, int>) return H5T_NATIVE_INT;
   else if constexpr (std::is_same_v<T, long long>) return H5T_NATIVE_LLONG;
+  else if constexpr (std::is_same_v<T, char>) return H5T_NATIVE_CHAR;
   else static_assert(sizeof(T) == 0, "unsupported HDF5 element type");
 }
 
@@ -144,7 +145,10 @@ long long Hdf5File::write_rows(const std::string& name, const T* data, long long
   const hsize_t start[2] = {static_cast<hsize_t>(offset), 0};
   const hsize_t count[2] = {static_cast<hsize_t>(local_rows), static_cast<hsize_t>(columns)};
   const Handle file_space{H5Screate_simple(rank_of_data, global, nullptr), H5Sclose};
-  const Handle dataset{H5Dcreate2(file_, name.c_str(), memory_type<T>(), file_space.id, H5P_DEFAULT, H5P_DEFAULT,
+  // A name such as "run/boxes" creates its group.
+  const Handle link{H5Pcreate(H5P_LINK_CREATE), H5Pclose};
+  H5Pset_create_intermediate_group(link.id, 1);
+  const Handle dataset{H5Dcreate2(file_, name.c_str(), memory_type<T>(), file_space.id, link.id, H5P_DEFAULT,
                                   H5P_DEFAULT),
                        H5Dclose};
   if (dataset.id < 0) fail("cannot create dataset " + name);
@@ -183,6 +187,8 @@ std::vector<T> Hdf5File::read_rows(const std::string& name, long long first, lon
 template long long Hdf5File::write_rows<double>(const std::string&, const double*, long long, int);
 template long long Hdf5File::write_rows<int>(const std::string&, const int*, long long, int);
 template long long Hdf5File::write_rows<long long>(const std::string&, const long long*, long long, int);
+template long long Hdf5File::write_rows<char>(const std::string&, const char*, long long, int);
+template std::vector<char> Hdf5File::read_rows<char>(const std::string&, long long, long long);
 template std::vector<double> Hdf5File::read_rows<double>(const std::string&, long long, long long);
 template std::vector<int> Hdf5File::read_rows<int>(const std::string&, long long, long long);
 template std::vector<long long> Hdf5File::read_rows<long long>(const std::string&, long long, long long);
@@ -245,6 +251,26 @@ void Hdf5File::set_attribute(const std::string& name, const std::string& value) 
   const Handle space{H5Screate(H5S_SCALAR), H5Sclose};
   const Handle attribute{H5Acreate2(file_, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
   if (attribute.id < 0 || H5Awrite(attribute.id, type.id, value.c_str()) < 0) fail("cannot write attribute " + name);
+}
+
+void Hdf5File::set_dataset_attribute(const std::string& dataset_name, const std::string& name, long long value) {
+  const Handle dataset{H5Dopen2(file_, dataset_name.c_str(), H5P_DEFAULT), H5Dclose};
+  if (dataset.id < 0) fail("no dataset " + dataset_name);
+  const Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+  const Handle attribute{H5Acreate2(dataset.id, name.c_str(), H5T_NATIVE_LLONG, space.id, H5P_DEFAULT, H5P_DEFAULT),
+                         H5Aclose};
+  if (attribute.id < 0 || H5Awrite(attribute.id, H5T_NATIVE_LLONG, &value) < 0)
+    fail("cannot write attribute " + name + " of " + dataset_name);
+}
+
+long long Hdf5File::dataset_integer_attribute(const std::string& dataset_name, const std::string& name) const {
+  const Handle dataset{H5Dopen2(file_, dataset_name.c_str(), H5P_DEFAULT), H5Dclose};
+  if (dataset.id < 0) fail("no dataset " + dataset_name);
+  const Handle attribute{H5Aopen(dataset.id, name.c_str(), H5P_DEFAULT), H5Aclose};
+  long long value = 0;
+  if (attribute.id < 0 || H5Aread(attribute.id, H5T_NATIVE_LLONG, &value) < 0)
+    fail("no attribute " + name + " of " + dataset_name);
+  return value;
 }
 
 hid_t Hdf5File::open_attribute(const std::string& name) const {

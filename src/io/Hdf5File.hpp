@@ -49,6 +49,9 @@ class Hdf5File {
   void set_attribute(const std::string& name, long long value);
   void set_attribute(const std::string& name, const std::string& value);
   void set_attribute(const std::string& name, const std::vector<double>& values);
+  // An integer attribute of a dataset (its checksum, say).
+  void set_dataset_attribute(const std::string& dataset, const std::string& name, long long value);
+  long long dataset_integer_attribute(const std::string& dataset, const std::string& name) const;
   double double_attribute(const std::string& name) const;
   long long integer_attribute(const std::string& name) const;
   std::string string_attribute(const std::string& name) const;

@@ -86,6 +86,21 @@ OutputDirectoryPlan plan_output_directory(const std::string& dir, const std::str
   return plan;
 }
 
+void remove_other_frames(const std::string& dir, const std::string& suffix, const std::vector<double>& frame_steps) {
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(dir, error)) {
+    const std::string name = entry.path().filename().string();
+    if (!is_run_output(name) || name.rfind("fields", 0) != 0 || !ends_with(name, ".h5")) continue;
+    const std::string middle = name.substr(6, name.size() - 6 - 3);  // "[_x]_000000100"
+    const size_t underscore = middle.rfind('_');
+    const std::string axis = middle.substr(0, underscore);
+    const double step = static_cast<double>(std::stoll(middle.substr(underscore + 1)));
+    const bool listed = std::find(frame_steps.begin(), frame_steps.end(), step) != frame_steps.end();
+    const bool later_axis = !suffix.empty() && !axis.empty() && axis > suffix;
+    if ((axis == suffix && !listed) || later_axis) fs::remove(entry.path(), error);
+  }
+}
+
 void prepare_output_directory(const OutputDirectoryPlan& plan) {
   for (const auto& name : plan.old_files) {
     std::error_code error;

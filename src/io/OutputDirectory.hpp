@@ -30,4 +30,12 @@ OutputDirectoryPlan plan_output_directory(const std::string& dir, const std::str
 // On one process: removes the old run's files, creates the directory.
 void prepare_output_directory(const OutputDirectoryPlan& plan);
 
+// A run continued from its checkpoint: removes the field files
+// fields<suffix>_<step>.h5 whose step is not among the checkpoint's frames
+// (written after it, or at the end of the run it continues past), and those
+// of the later drive axes of a Permeability/Tensor run (suffix "_x": "_y"
+// and "_z"), so that no frame of the first attempt stays beside the
+// continued run's.
+void remove_other_frames(const std::string& dir, const std::string& suffix, const std::vector<double>& frame_steps);
+
 }  // namespace poresph

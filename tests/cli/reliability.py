@@ -52,6 +52,9 @@ def snapshot(directory):
     for root, _, files in os.walk(directory):
         for name in files:
             full = os.path.join(root, name)
+            if not os.path.isfile(full):  # a link to a device (/dev/full) is recorded, not read
+                state[os.path.relpath(full, directory)] = "-> " + os.path.realpath(full)
+                continue
             with open(full, "rb") as f:
                 state[os.path.relpath(full, directory)] = hashlib.sha256(f.read()).hexdigest()
     return state
@@ -289,6 +292,161 @@ def class_5_output_directories():
          r"30 steps", lambda: "" if summary(out)["restarted_from_step"] == 20 else "not continued")
 
 
+def h5(path, mode="r"):
+    import h5py  # Debian's python3-h5py, as the other checks of the files
+    return h5py.File(path, mode)
+
+
+def zero_bytes(path, dataset, count=256):
+    """Zeroes `count` bytes in the middle of a dataset's storage, as a damaged disk block would."""
+    with h5(path) as f:
+        offset, size = f[dataset].id.get_offset(), f[dataset].id.get_storage_size()
+    with open(path, "r+b") as g:
+        g.seek(offset + size // 3)
+        g.write(b"\0" * min(count, size // 2))
+
+
+def class_4_restart():
+    """A checkpoint of other physics or damaged is refused naming what differs; a restart continues exactly."""
+    base = fresh("restart")
+    first = os.path.join(os.path.dirname(base), "first")
+    good_run(first, "Output/Field Interval=0.7")
+    checkpoint = os.path.join(first, "checkpoint.h5")
+    out = base
+    for name, settings, message in [
+        ("another spacing", ["Discretization/Particle Spacing=0.025"],
+         r"Discretization/Particle Spacing: 0.05 in the checkpoint, 0.025 here.*time step: "),
+        ("other grains", ["Grains/Inline={0.5, 0.5, 0.1}"], r"Grains: 0 grains, checksum [0-9a-f]+ in the checkpoint, "
+                                                            r"1 grains, checksum [0-9a-f]+ here"),
+        ("another fluid", ["Fluid/Kinematic Viscosity=0.02"], r"Fluid/Kinematic Viscosity: 0.01 in the checkpoint, 0.02 here"),
+        ("another dimension", ["Domain/Cell Size={1, 1, 1}", "Fluid/Body Force={0.001, 0, 0}"],
+         r"dimension: 2 in the checkpoint, 3 here"),
+        ("a tensor run from a single-axis checkpoint", ["Permeability/Tensor=true"],
+         r"Permeability/Tensor: false in the checkpoint, true here")]:
+        args = [TINY, "--output", out, "--restart", checkpoint, "--set", "Run/Max Steps=40"]
+        for setting in settings:
+            args += ["--set", setting]
+        case(f"a checkpoint of {name} is refused, naming the difference", args, 2,
+             r"the checkpoint is of other physics than this scene.*" + message, both(absent(out), unchanged(first)))
+
+    for dataset in ["v", "rho", "run/fingerprint"]:
+        damaged = path("restart", f"damaged-{dataset.replace('/', '-')}.h5")
+        shutil.copy(checkpoint, damaged)
+        zero_bytes(damaged, dataset)
+        case(f"a checkpoint with a zeroed block in {dataset} is refused", [TINY, "--output", out, "--restart", damaged,
+             "--set", "Run/Max Steps=40"], 2, rf"the data of '{dataset}' do not match their checksum", absent(out))
+    old = path("restart", "format-1.h5")
+    shutil.copy(checkpoint, old)
+    import numpy
+    with h5(old, "r+") as f:
+        del f.attrs["format"]
+        f.attrs["format"] = numpy.bytes_(b"poresph checkpoint 1")
+    case("a checkpoint of the format before fingerprints is refused, not trusted",
+         [TINY, "--output", out, "--restart", old], 2, r"earlier PoreSPH .* cannot be checked", absent(out))
+
+    # Exact continuation: a run that stopped at step 130 (its last checkpoint at 100, as if killed)
+    # and one that ended at 110, each continued to 200, against 200 steps in one go: the same
+    # history rows, the same field files, the same XDMF description.
+    fields = ["--set", "Output/Field Interval=0.7", "--set", "Run/Max Steps=200"]
+    whole = fresh("whole")
+    run([TINY, "--output", whole] + fields)
+    for name, stop in [("killed after its last checkpoint", ["Run/Max Steps=130", "Output/Checkpoint Interval=50",
+                                                              "Output/Final Checkpoint=false"]),
+                       ("continued past its end", ["Run/Max Steps=110"])]:
+        out = fresh("continued-" + name.split()[0])
+        args = [TINY, "--output", out, "--set", "Output/Field Interval=0.7"]
+        for setting in stop:
+            args += ["--set", setting]
+        run(args)
+        def same_as_whole():
+            problems = []
+            for file in ["permeability_history.csv", "particles.xmf"]:
+                if open(os.path.join(out, file)).read() != open(os.path.join(whole, file)).read():
+                    problems.append(f"{file} differs from the uninterrupted run's")
+            steps = [line.split(",")[0] for line in open(os.path.join(out, "permeability_history.csv"))][1:]
+            if len(steps) != len(set(steps)):
+                problems.append("a history row is there twice")
+            ours, theirs = sorted(os.listdir(out)), sorted(os.listdir(whole))
+            if ours != theirs:
+                problems.append(f"files {sorted(set(ours) ^ set(theirs))} differ")
+            return "; ".join(problems)
+        case(f"a run {name} continues its history and field frames exactly",
+             [TINY, "--output", out, "--restart", os.path.join(out, "checkpoint.h5")] + fields, 0, r"200 steps",
+             same_as_whole)
+
+
+def class_6_results_kept():
+    """Large metadata in datasets; summary.json at every ending; a full disk named, earlier files kept."""
+    out = fresh("long-parameters")
+    grains = ", ".join(f"{(a + 0.5) * 0.025:.4f}, {(b + 0.5) * 0.025:.4f}, 0.004" for a in range(40) for b in range(40))
+    def checkpoint_holds_everything():
+        with h5(os.path.join(out, "checkpoint.h5")) as f:
+            parameters = bytes(f["run/parameters"][()]).decode()
+        s = summary(out)
+        return "" if "Inline" in parameters and s["stopped_by"] == "max_steps" and s["steps"] == 2 else "incomplete"
+    case("1,600 inline grains: the parameter list is a dataset and every checkpoint is written",
+         [TINY, "--output", out, "--set", "Grains/Inline={" + grains + "}", "--set", "Discretization/Particle Spacing=0.004",
+          "--set", "Run/Max Steps=2", "--set", "Output/Checkpoint Interval=1"], 0, r"summary in",
+         checkpoint_holds_everything)
+
+    # A checkpoint that cannot be written in the time loop: the device /dev/full behind
+    # checkpoint.h5.tmp (a run continued in place keeps what is in its directory).
+    out = fresh("failed-write")
+    good_run(out, "Output/Checkpoint Interval=10")
+    os.symlink("/dev/full", os.path.join(out, "checkpoint.h5.tmp"))
+    before = snapshot(out)["checkpoint.h5"]
+    def recorded():
+        problems = []
+        s = summary(out)
+        if s["stopped_by"] != "error" or "checkpoint.h5.tmp" not in s.get("failure", ""):
+            problems.append(f"summary.json says {s['stopped_by']}, {s.get('failure')}")
+        if snapshot(out)["checkpoint.h5"] != before:
+            problems.append("the earlier checkpoint.h5 was changed")
+        return "; ".join(problems)
+    case("a checkpoint that cannot be written: exit 1, the reason, summary.json written, the earlier checkpoint kept",
+         [TINY, "--output", out, "--restart", os.path.join(out, "checkpoint.h5"), "--set", "Run/Max Steps=40",
+          "--set", "Output/Checkpoint Interval=10"], 1, r"checkpoint.h5.tmp: cannot (create the file|write dataset)", recorded)
+
+    # summary.json itself cannot be written (/dev/full: "No space left on device"): the earlier one
+    # is removed, not left to be taken for this run's.
+    out = fresh("summary-fails")
+    good_run(out)
+    os.symlink("/dev/full", os.path.join(out, "summary.json.tmp"))
+    case("a summary.json that cannot be written says why and leaves no stale one",
+         [TINY, "--output", out, "--restart", os.path.join(out, "checkpoint.h5"), "--set", "Run/Max Steps=40"], 1,
+         r"cannot write .*summary.json: writing .*No space left on device; the earlier summary.json was removed",
+         lambda: "" if not os.path.exists(os.path.join(out, "summary.json")) else "summary.json is still there")
+
+    # A full disk, when a small file system can be mounted (root in a container that allows it).
+    disk = path("full-disk")
+    os.makedirs(disk, exist_ok=True)
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", disk], capture_output=True).returncode == 0
+    if not mounted:
+        print("skip   a full disk (cannot mount a small tmpfs here)")
+        return
+    try:
+        out = os.path.join(disk, "out")
+        kept = {}
+        def after_full_disk():
+            problems = []
+            names = os.listdir(out)
+            if any(n.endswith(".tmp") for n in names):
+                problems.append(f"temporary files left: {names}")
+            with h5(os.path.join(out, "checkpoint.h5")) as f:
+                if f.attrs["step"] != 50:
+                    problems.append(f"checkpoint.h5 is of step {f.attrs['step']}, not the last good one (50)")
+            s = summary(out)
+            if s["stopped_by"] != "error" or "the disk is full" not in s["failure"]:
+                problems.append(f"summary.json: {s['stopped_by']}, {s.get('failure')}")
+            return "; ".join(problems)
+        case("a full disk: exit 1, 'the disk is full', the last good checkpoint kept, no .tmp, summary.json says so",
+             [TINY, "--output", out, "--set", "Discretization/Particle Spacing=0.02", "--set", "Run/Max Steps=200",
+              "--set", "Output/Checkpoint Interval=50", "--set", "Output/Field Interval=0.1"], 1,
+             r"cannot write dataset .*the disk is full", after_full_disk)
+    finally:
+        subprocess.run(["umount", disk])
+
+
 def class_7_messages():
     """Messages that say what is wrong, and nothing lost or buried."""
     out = fresh("messages")
@@ -395,7 +553,8 @@ def class_9_tests_stay():
                [] if done.returncode == status else [f"status {done.returncode}"])
 
 
-CLASSES = {"1": class_1_counts, "2": class_2_xml, "3": class_3_grains, "5": class_5_output_directories,
+CLASSES = {"1": class_1_counts, "2": class_2_xml, "3": class_3_grains, "4": class_4_restart,
+           "5": class_5_output_directories, "6": class_6_results_kept,
            "7": class_7_messages, "8": class_8_setup_time,
            "9": class_9_tests_stay}
 os.makedirs(WORK, exist_ok=True)

@@ -1,0 +1,147 @@
+#include "io/Checkpoint.hpp"
+
+#include <charconv>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+namespace poresph {
+namespace {
+
+// The shortest text that reads back as the same double: exact, and 0.05 rather than 0.050000000000000003.
+std::string number(double value) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, value).ptr;
+  return std::string(buffer, end);
+}
+
+template <class T>
+std::string list(const T* values, int n) {
+  std::string text = "{";
+  for (int k = 0; k < n; ++k) text += (k ? ", " : "") + number(static_cast<double>(values[k]));
+  return text + "}";
+}
+
+// "name = value" lines into a map, in the order of the text.
+std::vector<std::pair<std::string, std::string>> lines_of(const std::string& text) {
+  std::vector<std::pair<std::string, std::string>> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    const auto eq = line.find(" = ");
+    if (eq != std::string::npos) lines.emplace_back(line.substr(0, eq), line.substr(eq + 3));
+  }
+  return lines;
+}
+
+}  // namespace
+
+std::string physics_fingerprint(const SceneConfig& scene, double time_step, double sound_speed) {
+  const int D = scene.dimension;
+  std::vector<std::pair<std::string, std::string>> entries;
+  entries.emplace_back("dimension", std::to_string(D));
+  entries.emplace_back("Domain/Cell Size", list(scene.cell_size.data(), D));
+  entries.emplace_back("Domain/Periodic", list(scene.periodic.data(), D));
+  entries.emplace_back("Discretization/Particle Spacing", number(scene.particle_spacing));
+  entries.emplace_back("Discretization/Smoothing Length Ratio", number(scene.smoothing_length_ratio));
+  entries.emplace_back("Discretization/Particle Motion",
+                       scene.particle_motion == ParticleMotion::Fixed ? "fixed" : "lagrangian");
+  entries.emplace_back("Discretization/Particle Shifting", number(scene.shifting_coefficient));
+  entries.emplace_back("Discretization/Wall Pressure",
+                       scene.wall_pressure == WallPressure::Extrapolated ? "extrapolated" : "continuity");
+  entries.emplace_back("Fluid/Density", number(scene.density));
+  entries.emplace_back("Fluid/Kinematic Viscosity", number(scene.kinematic_viscosity));
+  entries.emplace_back("Fluid/Body Force", list(scene.body_force.data(), D));
+  entries.emplace_back("Fluid/Background Pressure", number(scene.background_pressure));
+  entries.emplace_back("Fluid/Convection", scene.convection ? "true" : "false");
+  // Whatever set them (given, or from the flow scales): the time of a step
+  // and the stiffness of the fluid must not change under a continued run.
+  entries.emplace_back("speed of sound", number(sound_speed));
+  entries.emplace_back("time step", number(time_step));
+  entries.emplace_back("Walls/Type", scene.walls == WallType::Channel ? "channel" : "none");
+  entries.emplace_back("Walls/Lower Velocity", number(scene.lower_wall_velocity));
+  entries.emplace_back("Walls/Upper Velocity", number(scene.upper_wall_velocity));
+  entries.emplace_back("Permeability/Tensor", scene.permeability_tensor ? "true" : "false");
+  // The grains by their count and a checksum of centres and radii in order.
+  std::vector<double> grains;
+  for (const auto& g : scene.grains) {
+    for (int d = 0; d < D; ++d) grains.push_back(g.centre[d]);
+    grains.push_back(g.radius);
+  }
+  char checksum[20];
+  std::snprintf(checksum, sizeof checksum, "%016llx",
+                static_cast<unsigned long long>(row_checksum(grains.data(), static_cast<long long>(grains.size()),
+                                                             1, 0)));
+  entries.emplace_back("Grains", std::to_string(scene.grains.size()) + " grains, checksum " + checksum);
+  std::string text;
+  for (const auto& [name, value] : entries) text += name + " = " + value + "\n";
+  return text;
+}
+
+std::uint64_t checkpoint_detail::scalars_checksum(const std::vector<double>& values) {
+  return row_checksum(values.data(), static_cast<long long>(values.size()), 1, 0);
+}
+
+CheckpointInfo read_checkpoint_info(const std::string& path, MPI_Comm comm) {
+  using namespace checkpoint_detail;
+  Hdf5File file(path, Hdf5File::Mode::Read, comm);
+  CheckpointInfo info;
+  std::string format;
+  try {
+    format = file.string_attribute("format");
+  } catch (const std::exception&) {
+    throw std::invalid_argument(path + " is an HDF5 file but not a PoreSPH checkpoint");
+  }
+  if (format == "poresph checkpoint 1")
+    throw std::invalid_argument(path + " was written by an earlier PoreSPH (" + format +
+                                "), which recorded neither a fingerprint of its physics nor checksums of its data; "
+                                "it cannot be checked, so it is not continued: start the run afresh");
+  if (format != kCheckpointFormat) throw std::invalid_argument(path + " is not a PoreSPH checkpoint (" + format + ")");
+  std::vector<double> scalars;
+  auto scalar = [&](const char* name, auto& value) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(value)>, double>) value = file.double_attribute(name);
+    else value = static_cast<std::decay_t<decltype(value)>>(file.integer_attribute(name));
+    scalars.push_back(static_cast<double>(value));
+  };
+  scalar("dimension", info.dimension);
+  scalar("step", info.step);
+  scalar("time", info.time);
+  scalar("ranks", info.ranks);
+  long long rates_valid = 0;
+  scalar("rates_valid", rates_valid);
+  info.rates_valid = rates_valid != 0;
+  auto& st = info.state;
+  scalar("drive_axis", st.drive_axis);
+  RunState::for_each_value(st, [&](const char* name, auto& value) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(value)>, double>) scalar(name, value);
+    else value = read_whole<double>(file, comm, std::string("run/") + name);
+  });
+  if (as_signed(scalars_checksum(scalars)) != file.integer_attribute("scalars_checksum"))
+    throw std::invalid_argument(path + ": the step, time and run state do not match their checksum: the checkpoint "
+                                "is damaged");
+  const auto parameters = read_whole<char>(file, comm, "run/parameters");
+  info.parameters.assign(parameters.begin(), parameters.end());
+  const auto fingerprint = read_whole<char>(file, comm, "run/fingerprint");
+  info.fingerprint.assign(fingerprint.begin(), fingerprint.end());
+  info.boxes = read_whole<double>(file, comm, "run/boxes");
+  if (info.ranks < 1 || info.boxes.size() != static_cast<size_t>(info.ranks) * info.dimension * 2)
+    throw std::invalid_argument(path + ": its boxes do not match its " + std::to_string(info.ranks) + " processes");
+  return info;
+}
+
+void check_checkpoint_matches(const CheckpointInfo& info, const std::string& path, const std::string& fingerprint) {
+  std::map<std::string, std::string> saved;
+  for (const auto& [name, value] : lines_of(info.fingerprint)) saved[name] = value;
+  std::string differences;
+  for (const auto& [name, value] : lines_of(fingerprint)) {
+    const auto it = saved.find(name);
+    const std::string theirs = it == saved.end() ? "(not recorded)" : it->second;
+    if (theirs != value) differences += "\n  " + name + ": " + theirs + " in the checkpoint, " + value + " here";
+  }
+  if (!differences.empty())
+    throw std::invalid_argument("--restart " + path +
+                                ": the checkpoint is of other physics than this scene, so the run would not go on "
+                                "but jump to another one:" +
+                                differences);
+}
+
+}  // namespace poresph
