@@ -1,6 +1,7 @@
 """Running poresph from the perf scripts: one scene of input/, --set
 overrides, on one process or under mpiexec; returns the run's summary.json."""
 import csv
+import functools
 import json
 import os
 import subprocess
@@ -33,12 +34,21 @@ def poresph_command(build, scene, directory, settings=(), ranks=None, threads=1)
     if ranks is not None:
         binding = "core" if threads == 1 and ranks <= CORES else "none"
         cmd = ["mpiexec", "-n", str(ranks), "--bind-to", binding]
-    # A script's run replaces the results of its earlier run in the same directory.
-    cmd += [os.path.join(build, "poresph"), os.path.join(ROOT, "input", scene), "--output", directory, "--overwrite",
-            "--set", "Run/Progress=never"]
+    # A script's run replaces the results of its earlier run in the same directory
+    # (a build older than --overwrite replaced them without being asked).
+    cmd += [os.path.join(build, "poresph"), os.path.join(ROOT, "input", scene), "--output", directory]
+    cmd += ["--overwrite"] if knows_overwrite(build) else []
+    cmd += ["--set", "Run/Progress=never"]
     for setting in settings:
         cmd += ["--set", setting]
     return cmd
+
+
+@functools.lru_cache(maxsize=None)
+def knows_overwrite(build):
+    """Whether the poresph of `build` takes --overwrite (issue 18 and after)."""
+    usage = subprocess.run([os.path.join(build, "poresph"), "--help"], capture_output=True, text=True)
+    return "--overwrite" in usage.stdout
 
 
 def moving_particles(build):

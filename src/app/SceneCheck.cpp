@@ -53,7 +53,7 @@ SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   const bool shifting = s.shifting_coefficient > 0;
   // x, v, x_start, v_start, dvdt; rho, p, m, pressure_term, inverse_density, rho_start, drhodt; kind; id.
   double fields = 5.0 * D * 8 + 7 * 8 + 4 + 8;
-  if (surfaces) fields += (D + 1) * 8.0;
+  if (surfaces) fields += (D + 2) * 8.0;  // wall_vector, wall_scalar, wall_drag
   if (shifting) fields += 2.0 * D * 8;
   fields *= 1.25;  // Particles::reserve grows by a quarter
   // Half of the neighbours within 3h (+ skin for moving particles), 4-byte
