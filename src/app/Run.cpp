@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>

@@ -482,7 +482,14 @@ def class_7_messages():
         proc = subprocess.Popen([POREESPH, TINY, "--output", out, "--set", "Discretization/Particle Spacing=0.0005",
                                  "--set", "Run/Max Steps=5"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                 text=True, env=ENV)
-        time.sleep(1.0)
+        # Once its handler is installed (SigCgt in /proc), so that the signal meets the set-up, not MPI_Init.
+        for _ in range(200):
+            with open(f"/proc/{proc.pid}/status") as status:
+                caught = int(next(l for l in status if l.startswith("SigCgt:")).split()[1], 16)
+            if caught & (1 << (signal.SIGTERM - 1)):
+                break
+            time.sleep(0.05)
+        time.sleep(0.2)
         proc.send_signal(signal.SIGTERM)
         output = proc.communicate(timeout=600)[0]
         problems = []
