@@ -295,3 +295,160 @@ TEST(Grains, FortyThousandGrainsAreCheckedInLinearTime) {
 
 }  // namespace
 }  // namespace poresph
+
+namespace poresph {
+namespace {
+
+SceneConfig unit_cube(double dx = 0.02) {
+  SceneConfig s = unit_cell(dx);
+  s.dimension = 3;
+  s.cell_size = {1.0, 1.0, 1.0};
+  return s;
+}
+
+// Sphere lists as DEM and packing tools write them: columns separated by
+// blanks, commas or semicolons, a first line naming the columns.
+TEST(Grains3D, FileReadsColumnsCommasAndAHeader) {
+  const auto csv = write_file("spheres.csv", "x,y,z,r\n0.5,0.5,0.5,0.1\n0.1, 0.2, 0.3, 0.05 # a comment\n");
+  const auto grains = read_grain_file(csv, 3);
+  ASSERT_EQ(grains.size(), 2u);
+  EXPECT_EQ(grains[1].centre[2], 0.3);
+  EXPECT_EQ(grains[1].radius, 0.05);
+  EXPECT_NE(grains[0].origin.find(":2"), std::string::npos);  // lines are counted with the header
+  const auto semicolons = write_file("spheres-semicolons.txt", "# cx;cy;cz;r\ncx;cy;cz;r\n0.5;0.5;0.5;0.1\n");
+  EXPECT_EQ(read_grain_file(semicolons, 3).size(), 1u);
+  // A header that does not name four columns, a second header, and nan are refused, naming the line.
+  const auto wrong_header = write_file("spheres-wrong-header.txt", "id x y z r\n1 0.5 0.5 0.5 0.1\n");
+  EXPECT_NE(error_of([&] { read_grain_file(wrong_header, 3); }).find(":1: the header names 5 columns"),
+            std::string::npos);
+  const auto late_header = write_file("spheres-late-header.txt", "0.5 0.5 0.5 0.1\nx y z r\n");
+  EXPECT_NE(error_of([&] { read_grain_file(late_header, 3); }).find(":2: 'x'"), std::string::npos);
+  const auto nan = write_file("spheres-nan.txt", "nan nan nan nan\n");
+  EXPECT_NE(error_of([&] { read_grain_file(nan, 3); }).find(":1: 'nan'"), std::string::npos);
+  // grains_used.txt reads back to the same bits.
+  SceneConfig scene = unit_cube();
+  scene.grains = grains;
+  const auto again = read_grain_file(write_file("spheres-again.txt", grains_used_text(scene)), 3);
+  ASSERT_EQ(again.size(), grains.size());
+  for (size_t g = 0; g < grains.size(); ++g) {
+    EXPECT_EQ(again[g].radius, grains[g].radius);
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(again[g].centre[d], grains[g].centre[d]);
+  }
+}
+
+// Two spheres in contact: the porosity subtracts their lens exactly (the
+// volume of two caps, checked by its own closed form here); three spheres
+// sharing a region fall back to sampling, which must agree with the exact
+// sum of pairwise lenses minus the triple region, within the sampling error.
+TEST(Grains3D, PorosityOfSpheresInContactIsExact) {
+  SceneConfig scene = unit_cube();
+  scene.allow_overlapping_grains = true;
+  const double r1 = 0.2, r2 = 0.15, d = 0.33;
+  // Cap heights of the lens, from the plane where the surfaces meet.
+  const double x1 = (d * d + r1 * r1 - r2 * r2) / (2 * d);
+  const double h1 = r1 - x1, h2 = r2 - (d - x1);
+  const double caps = M_PI * h1 * h1 * (3 * r1 - h1) / 3 + M_PI * h2 * h2 * (3 * r2 - h2) / 3;
+  EXPECT_NEAR(overlap_volume(r1, r2, d, 3), caps, 1e-15);
+  const double spheres = 4.0 / 3.0 * M_PI * (r1 * r1 * r1 + r2 * r2 * r2);
+  const auto pair = grains_from_list({0.05, 0.05, 0.05, r1, 0.05 + d, 0.05, 0.05, r2}, 3);
+  EXPECT_NEAR(porosity(pair, scene), 1 - (spheres - caps), 1e-14);
+  // Across the corner of the cell: the pair meets through the periodic images.
+  const auto across = grains_from_list({0.9, 0.95, 0.97, r1, 0.9 + d - 1.0, 0.95, 0.97, r2}, 3);
+  EXPECT_NEAR(porosity(across, scene), 1 - (spheres - caps), 1e-14);
+  // Three spheres sharing a region (4.8e-4 of the cell, by Monte Carlo
+  // with 4e7 points: porosity 0.90859 +- 5e-5): sampled on 160^3 points,
+  // not the pairwise sum, which would subtract that region twice too often.
+  const auto three = grains_from_list({0.5, 0.5, 0.5, 0.2, 0.8, 0.5, 0.5, 0.2, 0.65, 0.75, 0.5, 0.2}, 3);
+  const double side = std::hypot(0.15, 0.25);
+  const double pairwise = 3 * 4.0 / 3.0 * M_PI * 0.008 - overlap_volume(0.2, 0.2, 0.3, 3) -
+                          2 * overlap_volume(0.2, 0.2, side, 3);
+  const double sampled = porosity(three, scene);
+  EXPECT_NEAR(sampled, 0.90859, 2e-4);
+  EXPECT_LT(sampled, 1 - pairwise - 3e-4);
+}
+
+// A sphere across the corner of the cube (its eighths in the eight
+// corners) gives the lattice the same particles as the same sphere inside,
+// moved by whole spacings: the periodic wrap of the filling in 3D.
+TEST(Grains3D, SphereAcrossEdgesAndCornersFillsLikeOneInside) {
+  SceneConfig scene = unit_cube(0.05);
+  auto count = [&](double cx, double cy, double cz) {
+    scene.grains = grains_from_list({cx, cy, cz, 0.3}, 3);
+    int fluid = 0, boundary = 0, octants[8] = {};
+    for (const auto& s : fill_lattice<3>(scene)) {
+      if (s.kind == kFluid) {
+        ++fluid;
+        continue;
+      }
+      ++boundary;
+      const double depth = scene.grains[0].radius -
+                           std::sqrt(s.wall_vector[0] * s.wall_vector[0] + s.wall_vector[1] * s.wall_vector[1] +
+                                     s.wall_vector[2] * s.wall_vector[2]);
+      EXPECT_GE(depth, -1e-12);
+      EXPECT_LE(depth, 3 * scene.particle_spacing + 1e-12);
+      ++octants[(s.x[0] > 0.5) + 2 * (s.x[1] > 0.5) + 4 * (s.x[2] > 0.5)];
+    }
+    return std::make_tuple(fluid, boundary, std::vector<int>(octants, octants + 8));
+  };
+  const auto [fluid_in, boundary_in, octants_in] = count(0.5, 0.5, 0.5);
+  const auto [fluid_corner, boundary_corner, octants_corner] = count(0.0, 0.0, 0.0);
+  const auto [fluid_edge, boundary_edge, octants_edge] = count(0.0, 0.5, 1.0);
+  EXPECT_EQ(fluid_corner, fluid_in);
+  EXPECT_EQ(boundary_corner, boundary_in);
+  EXPECT_EQ(fluid_edge, fluid_in);
+  EXPECT_EQ(boundary_edge, boundary_in);
+  for (int o = 0; o < 8; ++o) EXPECT_EQ(octants_corner[o], boundary_in / 8) << "octant " << o;
+  EXPECT_GT(boundary_in, 0);
+}
+
+// Throats between spheres in 3D: refused below a spacing, warned below
+// three, between a sphere and its own images across an edge and a corner
+// of the cell too; the binned survey finds every throat a scan of all pairs
+// and all 27 images finds, with the same gap.
+TEST(Grains3D, ThroatsAreCheckedAsInTwoDimensions) {
+  SceneConfig scene = unit_cube(0.01);
+  auto two = [&](double gap) { return grains_from_list({0.3, 0.5, 0.5, 0.1, 0.5 + gap, 0.5, 0.5, 0.1}, 3); };
+  EXPECT_NE(error_of([&] { check_throats(two(0.0099), scene); }).find("narrower than one spacing"), std::string::npos);
+  EXPECT_EQ(check_throats(two(0.0101), scene).size(), 1u);
+  EXPECT_TRUE(check_throats(two(0.0301), scene).empty());
+  // The diagonal of the cube: a sphere at the corner and one at the centre, gap 0.005 along (1,1,1).
+  const double half_diagonal = std::sqrt(3.0) / 2;
+  const auto diagonal = grains_from_list({0.0, 0.0, 0.0, 0.3, 0.5, 0.5, 0.5, half_diagonal - 0.3 - 0.005}, 3);
+  const auto refused = error_of([&] { check_throats(diagonal, scene); });
+  EXPECT_NE(refused.find("0.005 wide"), std::string::npos) << refused;
+
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> x(0, 1.0), r(0.02, 0.08);
+  std::vector<double> values;
+  for (int g = 0; g < 300; ++g) values.insert(values.end(), {x(random), x(random), x(random), r(random)});
+  const auto grains = grains_from_list(values, 3);
+  const double max_gap = 0.04;
+  std::vector<std::tuple<double, size_t, size_t>> reference;
+  for (size_t i = 0; i < grains.size(); ++i)
+    for (size_t j = i; j < grains.size(); ++j) {
+      double narrowest = INFINITY;
+      for (int image = 0; image < 27; ++image) {
+        const int s[3] = {image % 3 - 1, image / 3 % 3 - 1, image / 9 - 1};
+        if (i == j && s[0] == 0 && s[1] == 0 && s[2] == 0) continue;
+        double d_sq = 0;
+        for (int k = 0; k < 3; ++k) {
+          const double dk = grains[j].centre[k] + s[k] - grains[i].centre[k];
+          d_sq += dk * dk;
+        }
+        narrowest = std::min(narrowest, std::sqrt(d_sq) - grains[i].radius - grains[j].radius);
+      }
+      if (narrowest > 1e-12 && narrowest < max_gap) reference.emplace_back(narrowest, i, j);
+    }
+  std::sort(reference.begin(), reference.end());
+  ASSERT_GT(reference.size(), 30u);
+  const auto survey = narrow_throats(grains, scene, max_gap, 1000000);
+  ASSERT_EQ(survey.count, static_cast<long long>(reference.size()));
+  for (size_t k = 0; k < reference.size(); ++k) {
+    EXPECT_EQ(survey.narrowest[k].first, &grains[std::get<1>(reference[k])]) << k;
+    EXPECT_EQ(survey.narrowest[k].second, &grains[std::get<2>(reference[k])]) << k;
+    EXPECT_NEAR(survey.narrowest[k].gap, std::get<0>(reference[k]), 1e-15) << k;
+  }
+}
+
+}  // namespace
+}  // namespace poresph

@@ -14,6 +14,7 @@
 
 #include "app/Run.hpp"
 #include "app/SceneCheck.hpp"
+#include "geometry/Grains.hpp"
 #include "app/Simulation.hpp"
 #include "io/Checkpoint.hpp"
 #include "io/Hdf5File.hpp"
@@ -145,11 +146,16 @@ int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const p
               std::to_string(ranks) + "; threads per rank " + std::to_string(poresph::threads_for(scene)) +
               (cl.restart_file.empty() ? "" : "; restarted from " + cl.restart_file) + " -->\n" +
               options.parameters_xml);
+      // The grains as a grain file: a random pack is repeated from it with Grains/File.
+      if (!scene.grains.empty())
+        poresph::write_file_atomically(plan.path + "/grains_used.txt", poresph::grains_used_text(scene));
     }
     MPI_Barrier(MPI_COMM_WORLD);  // the directory exists before any process writes into it
   };
-  if (rank == 0)
+  if (rank == 0) {
+    if (!scene.grains_note.empty()) std::cout << "poresph: " << scene.grains_note << "\n";
     for (const auto& warning : scene.warnings) std::cerr << "poresph: warning: " << warning << "\n";
+  }
   const auto report = poresph::run_scene(scene, options);
   if (rank == 0)
     std::cout << "poresph: " << scene.name << ": " << report.steps << " steps to t = " << report.simulated_time

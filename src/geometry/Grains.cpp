@@ -1,8 +1,11 @@
 #include "geometry/Grains.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +14,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "geometry/GrainBins.hpp"
 #include "io/TextValues.hpp"
 
 namespace poresph {
@@ -21,78 +25,6 @@ double squared_distance(const std::array<double, 3>& d, int dim) {
   for (int k = 0; k < dim; ++k) s += d[k] * d[k];
   return s;
 }
-
-// The grains sorted into bins of the cell at least `width` wide, so that
-// every grain whose centre is within `width` of a point (at the nearest
-// periodic image) sits in the point's bin or a neighbouring one. The checks
-// of a packing then look at neighbours only: set-up grows with the number
-// of grains, not with its square (40,000 grains took 86 s pairwise).
-class GrainBins {
- public:
-  GrainBins(const std::vector<Grain>& grains, const SceneConfig& scene, double width)
-      : scene_(scene), dim_(scene.dimension) {
-    // No more bins than about four per grain: tiny grains in a large cell
-    // would otherwise ask for more bins than memory holds. Wider bins are
-    // still correct, only less selective.
-    const double most_bins = 4.0 * static_cast<double>(grains.size()) + 1;
-    const double per_direction = std::max(1.0, std::floor(std::pow(most_bins, 1.0 / dim_)));
-    size_t bins = 1;
-    for (int d = 0; d < dim_; ++d) {
-      const double fit = width > 0 ? std::floor(scene.cell_size[d] / width) : per_direction;
-      count_[d] = static_cast<int>(std::clamp(fit, 1.0, per_direction));
-      bins *= count_[d];
-    }
-    begin_.assign(bins + 1, 0);
-    std::vector<size_t> bin_of(grains.size());
-    for (size_t g = 0; g < grains.size(); ++g) ++begin_[(bin_of[g] = bin(grains[g].centre)) + 1];
-    for (size_t b = 0; b < bins; ++b) begin_[b + 1] += begin_[b];
-    members_.resize(grains.size());
-    std::vector<size_t> next(begin_.begin(), begin_.end() - 1);
-    for (size_t g = 0; g < grains.size(); ++g) members_[next[bin_of[g]]++] = g;  // ascending within a bin
-  }
-
-  // f(g) once for every grain in the bins around `point`.
-  template <class F>
-  void for_each_near(const std::array<double, 3>& point, F&& f) const {
-    // Bin indices per direction, each once (with one or two bins along a
-    // periodic direction, -1 and +1 wrap onto the same bins).
-    int around[3][3] = {}, found[3] = {1, 1, 1};
-    for (int d = 0; d < dim_; ++d) {
-      const int n = count_[d], k = index(point[d], d);
-      found[d] = 0;
-      for (int o = -1; o <= 1; ++o) {
-        int j = k + o;
-        if (scene_.periodic[d]) j = ((j % n) + n) % n;
-        else if (j < 0 || j >= n) continue;
-        if (std::find(around[d], around[d] + found[d], j) == around[d] + found[d]) around[d][found[d]++] = j;
-      }
-    }
-    for (int a2 = 0; a2 < found[2]; ++a2)
-      for (int a1 = 0; a1 < found[1]; ++a1)
-        for (int a0 = 0; a0 < found[0]; ++a0) {
-          const size_t b = (static_cast<size_t>(around[2][a2]) * count_[1] + around[1][a1]) * count_[0] + around[0][a0];
-          for (size_t m = begin_[b]; m < begin_[b + 1]; ++m) f(members_[m]);
-        }
-  }
-
- private:
-  int index(double x, int d) const {
-    double y = x;
-    if (scene_.periodic[d]) y -= scene_.cell_size[d] * std::floor(y / scene_.cell_size[d]);
-    const double k = std::floor(y / scene_.cell_size[d] * count_[d]);
-    return static_cast<int>(std::clamp(k, 0.0, count_[d] - 1.0));  // beyond a wall: the edge bin
-  }
-  size_t bin(const std::array<double, 3>& x) const {
-    size_t b = 0;
-    for (int d = dim_ - 1; d >= 0; --d) b = b * count_[d] + index(x[d], d);
-    return b;
-  }
-
-  const SceneConfig& scene_;
-  int dim_;
-  std::array<int, 3> count_{{1, 1, 1}};
-  std::vector<size_t> begin_, members_;
-};
 
 double largest_radius(const std::vector<Grain>& grains) {
   double r = 0;
@@ -126,19 +58,43 @@ std::vector<Grain> read_grain_file(const std::string& path, int dimension) {
   if (!in) throw std::invalid_argument(cannot + std::strerror(errno));
   std::vector<Grain> grains;
   std::string line;
+  bool header_allowed = true;
   for (int number = 1; std::getline(in, line); ++number) {
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
+    // DEM and packing tools write spheres as CSV as often as in columns:
+    // commas and semicolons separate like blanks (a decimal comma is not read).
+    for (char& c : line)
+      if (c == ',' || c == ';') c = ' ';
     std::istringstream fields(line);
+    std::vector<std::string> words;
+    for (std::string word; fields >> word;) words.push_back(word);
+    if (words.empty()) continue;
+    // A first line of column names ("x y z r", "cx,cy,cz,radius") is a
+    // header: every word starts with a letter and none reads as a number
+    // (strtod takes "nan" and "inf", which stay errors on a grain line).
+    const bool names_only = std::all_of(words.begin(), words.end(), [](const std::string& w) {
+      char* end = nullptr;
+      std::strtod(w.c_str(), &end);
+      return std::isalpha(static_cast<unsigned char>(w[0])) && end == w.c_str();
+    });
+    if (header_allowed && names_only) {
+      if (static_cast<int>(words.size()) != dimension + 1)
+        throw std::invalid_argument(path + ":" + std::to_string(number) + ": the header names " +
+                                    std::to_string(words.size()) + " columns; a grain has " +
+                                    std::to_string(dimension + 1) + " (" + (dimension == 2 ? "cx cy r" : "cx cy cz r") +
+                                    ")");
+      header_allowed = false;
+      continue;
+    }
+    header_allowed = false;
     std::vector<double> values;
-    std::string word;
-    while (fields >> word) {
+    for (const auto& word : words) {
       const auto parsed = parse_number<double>(word);  // as every number PoreSPH reads: NaN is no coordinate
       if (!parsed.value)
         throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + word + "' " + parsed.problem);
       values.push_back(*parsed.value);
     }
-    if (values.empty()) continue;
     if (static_cast<int>(values.size()) != dimension + 1)
       throw std::invalid_argument(path + ":" + std::to_string(number) + ": expected " +
                                   std::to_string(dimension + 1) + " numbers (" +
@@ -303,23 +259,74 @@ std::vector<std::string> check_throats(const std::vector<Grain>& grains, const S
   return warnings;
 }
 
+double overlap_volume(double r1, double r2, double d, int dim) {
+  constexpr double pi = 3.14159265358979323846;
+  if (d >= r1 + r2) return 0.0;
+  const double small = std::min(r1, r2);
+  if (d <= std::abs(r1 - r2)) return dim == 2 ? pi * small * small : 4.0 / 3.0 * pi * small * small * small;
+  if (dim == 3)  // two spherical caps (e.g. Weisstein, "Sphere-Sphere Intersection")
+    return pi * (r1 + r2 - d) * (r1 + r2 - d) * (d * d + 2 * d * r2 - 3 * r2 * r2 + 2 * d * r1 + 6 * r2 * r1 - 3 * r1 * r1) /
+           (12 * d);
+  const double a1 = std::acos(std::clamp((d * d + r1 * r1 - r2 * r2) / (2 * d * r1), -1.0, 1.0));
+  const double a2 = std::acos(std::clamp((d * d + r2 * r2 - r1 * r1) / (2 * d * r2), -1.0, 1.0));
+  return r1 * r1 * a1 + r2 * r2 * a2 -
+         0.5 * std::sqrt(std::max(0.0, (-d + r1 + r2) * (d + r1 - r2) * (d - r1 + r2) * (d + r1 + r2)));
+}
+
 double porosity(const std::vector<Grain>& grains, const SceneConfig& scene) {
   const int dim = scene.dimension;
   double cell_volume = 1;
   for (int d = 0; d < dim; ++d) cell_volume *= scene.cell_size[d];
-  bool overlapping = false;
+  constexpr double pi = 3.14159265358979323846;
+  double solid = 0;
+  for (const auto& g : grains)
+    solid += dim == 2 ? pi * g.radius * g.radius : 4.0 / 3.0 * pi * g.radius * g.radius * g.radius;
+  // Overlapping pairs (grains in contact in a packing), each with the
+  // ball around its lens: the lens lies within the ball centred on the
+  // circle where the surfaces meet, of that circle's radius, when neither
+  // cap is more than half its grain.
+  struct Lens {
+    size_t i, j;
+    std::array<double, 3> centre;
+    double radius;
+  };
+  std::vector<Lens> lenses;
+  bool exact = true;
+  double largest = 0;
+  for (const auto& g : grains) largest = std::max(largest, g.radius);
+  // A pair could meet through two periodic images in a cell narrower than two diameters.
+  for (int d = 0; d < dim; ++d) exact = exact && (!scene.periodic[d] || scene.cell_size[d] >= 4 * largest);
   for_each_close_pair(grains, scene, 0.0, [&](size_t i, size_t j) {
-    overlapping = overlapping ||
-                  std::sqrt(squared_distance(periodic_difference(grains[i].centre, grains[j].centre, scene), dim)) <
-                      grains[i].radius + grains[j].radius;
+    const auto r = periodic_difference(grains[j].centre, grains[i].centre, scene);
+    const double d = std::sqrt(squared_distance(r, dim));
+    const double r1 = grains[i].radius, r2 = grains[j].radius;
+    if (d >= r1 + r2) return;
+    const double x1 = d > 0 ? (d * d + r1 * r1 - r2 * r2) / (2 * d) : -1;
+    if (x1 < 0 || x1 > d) {  // a cap beyond half its grain, or one grain inside the other
+      exact = false;
+      return;
+    }
+    Lens lens{i, j, {}, std::sqrt(std::max(0.0, r1 * r1 - x1 * x1))};
+    for (int k = 0; k < dim; ++k) lens.centre[k] = grains[i].centre[k] + r[k] * x1 / d;
+    lenses.push_back(lens);
+    solid -= overlap_volume(r1, r2, d, dim);
   });
-  if (!overlapping) {
-    constexpr double pi = 3.14159265358979323846;
-    double solid = 0;
-    for (const auto& g : grains)
-      solid += dim == 2 ? pi * g.radius * g.radius : 4.0 / 3.0 * pi * g.radius * g.radius * g.radius;
-    return 1.0 - solid / cell_volume;
+  if (lenses.empty()) return 1.0 - solid / cell_volume;
+  // Pairwise overlaps only: no third grain reaches into a lens's ball, so
+  // no point is counted in three grains and the sum above is exact.
+  if (exact) {
+    const GrainBins bins(grains, scene, 2 * largest);
+    for (const auto& lens : lenses) {
+      bins.for_each_near(lens.centre, [&](size_t k) {
+        if (k == lens.i || k == lens.j) return;
+        const double reach = lens.radius + grains[k].radius;
+        if (squared_distance(periodic_difference(lens.centre, grains[k].centre, scene), dim) < reach * reach)
+          exact = false;
+      });
+      if (!exact) break;
+    }
   }
+  if (exact) return 1.0 - solid / cell_volume;
   // Overlaps: count sample points of a fine grid covered by any grain (the
   // grains near each point only: a point inside a grain is within the
   // largest radius of its centre).
@@ -339,6 +346,31 @@ double porosity(const std::vector<Grain>& grains, const SceneConfig& scene) {
     covered += inside;
   }
   return 1.0 - static_cast<double>(covered) / total;
+}
+
+std::string grain_file_text(const std::vector<Grain>& grains, int dimension, const std::string& header) {
+  std::string text;
+  std::istringstream lines(header);
+  for (std::string line; std::getline(lines, line);) text += "# " + line + "\n";
+  text += dimension == 2 ? "# cx cy r (m)\n" : "# cx cy cz r (m)\n";
+  char buffer[48];
+  for (const auto& g : grains) {
+    for (int d = 0; d < dimension; ++d) {
+      std::snprintf(buffer, sizeof buffer, "%.17g ", g.centre[d]);
+      text += buffer;
+    }
+    std::snprintf(buffer, sizeof buffer, "%.17g\n", g.radius);
+    text += buffer;
+  }
+  return text;
+}
+
+std::string grains_used_text(const SceneConfig& scene) {
+  std::string header = "The grains of scene " + scene.name + ", " +
+                       (scene.grains_note.empty() ? std::string("as given in the scene") : scene.grains_note) +
+                       ".\nGrains/File reads this file back exactly" +
+                       (scene.allow_overlapping_grains ? " (with Grains/Allow Overlap = true)." : ".");
+  return grain_file_text(scene.grains, scene.dimension, header);
 }
 
 }  // namespace poresph

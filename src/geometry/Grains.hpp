@@ -55,8 +55,22 @@ constexpr size_t kThroatWarnings = 100;
 // underestimated.
 std::vector<std::string> check_throats(const std::vector<Grain>& grains, const SceneConfig& scene);
 
-// Fraction of the cell not covered by grains: exact for separate grains,
-// sampled on a fine grid where grains overlap.
+// Fraction of the cell not covered by grains: exact for separate grains and
+// for grains that overlap pairwise (in contact, as in a pack: each lens
+// subtracted once), sampled on a fine grid where three grains may share a
+// point or a grain reaches past half of another.
 double porosity(const std::vector<Grain>& grains, const SceneConfig& scene);
+
+// The volume (area in 2D) common to two spheres (circles) of radii r1, r2
+// whose centres are d apart.
+double overlap_volume(double r1, double r2, double d, int dim);
+
+// The grains as a grain file (Grains/File reads it back exactly): `header`
+// as comment lines, then one grain a line, cx cy [cz] r, 17 digits.
+std::string grain_file_text(const std::vector<Grain>& grains, int dimension, const std::string& header);
+
+// grains_used.txt of a run: the scene's grains with how they were made
+// (the random pack's note, or "as given in the scene").
+std::string grains_used_text(const SceneConfig& scene);
 
 }  // namespace poresph

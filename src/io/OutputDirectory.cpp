@@ -31,7 +31,8 @@ bool named(const std::string& name, const std::string& stem, const std::string& 
 
 bool is_run_output(const std::string& file) {
   const std::string name = ends_with(file, ".tmp") ? file.substr(0, file.size() - 4) : file;
-  if (name == "summary.json" || name == "parameters_used.xml" || name == "checkpoint.h5" || name == "profiles.csv")
+  if (name == "summary.json" || name == "parameters_used.xml" || name == "checkpoint.h5" || name == "profiles.csv" ||
+      name == "grains_used.txt")
     return true;
   if (named(name, "permeability_history", ".csv") || named(name, "particles", ".csv") ||
       named(name, "particles", ".xmf") || named(name, "grid", ".xmf"))

@@ -59,6 +59,9 @@ struct SceneConfig {
   // Empty: no grains, and none of their machinery runs.
   std::vector<Grain> grains;
   bool allow_overlapping_grains = false;
+  // How the grains were made when PoreSPH made them (Grains/Random Pack):
+  // the header of grains_used.txt. Empty for grains given in the scene.
+  std::string grains_note;
   // What the checks of the input found worth saying but not refusing (narrow throats).
   std::vector<std::string> warnings;
 
