@@ -1,6 +1,7 @@
 #include "io/Parameters.hpp"
 
 #include "geometry/Grains.hpp"
+#include "geometry/RandomPack.hpp"
 
 #include <Teuchos_Array.hpp>
 #include <Teuchos_StandardParameterEntryValidators.hpp>
@@ -144,11 +145,38 @@ RCP<ParameterList> make_valid_parameters() {
     auto& s = list->sublist("Grains", false, "Soil grains: circles in 2D, spheres in 3D. They may cross the periodic "
                                              "boundary and then act on both sides.");
     s.set("File", std::string(""),
-          "Text file of grains, one a line: 'cx cy r' (2D) or 'cx cy cz r' (3D), '#' comments. A relative path is "
-          "relative to the scene file's folder.");
+          "Text file of grains, one a line: 'cx cy r' (2D) or 'cx cy cz r' (3D), separated by blanks, commas or "
+          "semicolons (as DEM and packing tools write them), '#' comments, and an optional first line naming "
+          "the columns. A relative path is relative to the scene file's folder. Every grain scene writes the "
+          "grains it used to grains_used.txt in its output directory, in this format.");
     s.set("Inline", Array<double>(), "Grains in the XML: cx, cy, r, cx, cy, r, ... (cx, cy, cz, r in 3D).",
           reals_in(-kHuge, kHuge));
     s.set("Allow Overlap", false, "Accept overlapping grains; otherwise an overlap is an error naming them.");
+    auto& p = s.sublist("Random Pack", false,
+                        "A random periodic pack of grains made at set-up (src/geometry/RandomPack.hpp: radii drawn "
+                        "to the porosity, grains grown from random centres by collective rearrangement), the same "
+                        "for the same seed. The grains used are written to grains_used.txt in the output "
+                        "directory: Grains/File = that file (with Porosity = 0 here and Allow Overlap = true) "
+                        "repeats the run. Not with Grains/File or Grains/Inline.");
+    p.set("Porosity", 0.0, "Target porosity of the cell, met exactly (to 1e-6). 0: no pack.", real_in(0.0, 0.99));
+    p.set("Radius Distribution", std::string("uniform"),
+          "'uniform': radii uniform between Min Radius and Max Radius (equal for a monodisperse pack). "
+          "'lognormal': ln r normal about ln(Median Radius) with Log Standard Deviation, truncated to "
+          "[Min Radius, Max Radius]. All radii are then scaled by one factor (within about 1/(3N) of 1 for N "
+          "grains) so that the porosity is met.",
+          one_of({"uniform", "lognormal"}));
+    p.set("Min Radius", 0.0, "Smallest radius drawn (m).", real_in(0.0, kHuge));
+    p.set("Max Radius", 0.0, "Largest radius drawn (m).", real_in(0.0, kHuge));
+    p.set("Median Radius", 0.0, "'lognormal': the median radius (m).", real_in(0.0, kHuge));
+    p.set("Log Standard Deviation", 0.0, "'lognormal': the standard deviation of ln r.", real_in(0.0, 10.0));
+    p.set("Minimum Gap", 1.0,
+          "Narrowest open throat between two grains, in particle spacings (at least 1: the scene checks refuse "
+          "a throat under one spacing, and warn under three). Grains closer than that are in contact.",
+          real_in(1.0, 1000.0));
+    p.set("Contacts", true,
+          "Grains may touch, overlapping by at most min(Minimum Gap, 0.1 of the smaller radius), as the grains "
+          "of a soil do; false: every pair keeps Minimum Gap, which limits how dense a pack can be.");
+    p.set("Seed", 1, "Seed of the random draws (std::mt19937_64).", int_in(0, std::numeric_limits<int>::max()));
   }
   {
     auto& s = list->sublist("Permeability", false,
@@ -566,6 +594,28 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
     const auto listed = grains_from_list(std::vector<double>(inline_values.begin(), inline_values.end()), dim);
     scene.grains.insert(scene.grains.end(), listed.begin(), listed.end());
     scene.allow_overlapping_grains = grains.get<bool>("Allow Overlap");
+    const auto& pack = grains.sublist("Random Pack");
+    if (pack.get<double>("Porosity") > 0) {
+      if (!scene.grains.empty())
+        fail("Grains/Random Pack makes all the grains of the scene: leave Grains/File and Grains/Inline empty");
+      RandomPackSpec spec;
+      spec.porosity = pack.get<double>("Porosity");
+      spec.distribution = pack.get<std::string>("Radius Distribution") == "lognormal"
+                              ? RandomPackSpec::Distribution::Lognormal
+                              : RandomPackSpec::Distribution::Uniform;
+      spec.min_radius = pack.get<double>("Min Radius");
+      spec.max_radius = pack.get<double>("Max Radius");
+      spec.median_radius = pack.get<double>("Median Radius");
+      spec.log_deviation = pack.get<double>("Log Standard Deviation");
+      spec.minimum_gap = pack.get<double>("Minimum Gap");
+      spec.contacts = pack.get<bool>("Contacts");
+      spec.seed = static_cast<unsigned long long>(pack.get<int>("Seed"));
+      auto made = make_random_pack(spec, scene);
+      scene.grains = std::move(made.grains);
+      scene.grains_note = made.description;
+      // Contacts are overlaps by construction; the pack's own rule bounds them.
+      scene.allow_overlapping_grains = scene.allow_overlapping_grains || spec.contacts;
+    }
     check_grains(scene.grains, scene);
     const auto throats = check_throats(scene.grains, scene);
     scene.warnings.insert(scene.warnings.end(), throats.begin(), throats.end());
