@@ -47,6 +47,7 @@ def check(xmf):
     return len(frames)
 
 
-for path in sys.argv[1:]:
-    print(f"{path}: {check(path)} frames, layout matches")
-print("xdmf layout ok")
+if __name__ == "__main__":
+    for path in sys.argv[1:]:
+        print(f"{path}: {check(path)} frames, layout matches")
+    print("xdmf layout ok")
