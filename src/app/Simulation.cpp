@@ -458,6 +458,31 @@ GridBlock<Dim> Simulation<Dim, ExecSpace>::interpolate_to_grid(const std::vector
 }
 
 template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::warm_start(Simulation& finer, double scale) {
+  update_pressure_and_ghosts();  // the ghosts as they are now: they serve the box's edge
+  auto& F = finer.particles_;
+  const int n = F.owned;
+  Kokkos::View<double**, MemorySpace> values("warm_start_values", n, Dim + 1);
+  const double rest_pressure = derived_.sound_speed * derived_.sound_speed * scene_.density;
+  interpolate_fluid_at(space_, particles_, cells_, kernel_, F.x, n, rest_pressure, values);
+  space_.fence();
+  // The pressure carries over, not the density: the finer level's sound speed differs.
+  const double fine_c_sq = finer.derived_.sound_speed * finer.derived_.sound_speed;
+  const double rho0 = finer.scene_.density;
+  const auto v = F.v, rho = F.rho;
+  const auto kind = F.kind;
+  static const std::string label = "poresph::warm_start";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(finer.space_, 0, n), KOKKOS_LAMBDA(int i) {
+        if (kind(i) != kFluid) return;
+        for (int d = 0; d < Dim; ++d) v(i, d) = scale * values(i, d);
+        rho(i) = rho0 + scale * values(i, Dim) / fine_c_sq;
+      });
+  finer.space_.fence();
+  finer.compute_rates();
+}
+
+template <int Dim, class ExecSpace>
 Kokkos::View<int*, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>::grain_ids() const {
   Kokkos::View<int*, MemorySpace> ids("grain_ids", particles_.owned);
   Kokkos::deep_copy(space_, ids, -1);

@@ -104,6 +104,15 @@ class Simulation {
   // node-major, x fastest; the block is returned too.
   GridBlock<Dim> interpolate_to_grid(const std::vector<int>& points, std::vector<double>& values);
 
+  // The fluid's velocity and pressure above the rest pressure c^2 rho0 at the
+  // owned fluid particles of `finer` (a simulation of the same scene at
+  // another spacing, decomposed into the same boxes), interpolated from this
+  // one's fluid, ghosts included; then `finer` starts from them: its
+  // velocity, and its density from the pressure under its own sound speed.
+  // Boundary particles keep theirs (their pressure follows the fluid's).
+  // scale multiplies what is taken (0.5 for the same flow at half the force).
+  void warm_start(Simulation& finer, double scale = 1.0);
+
   // Per owned particle, the grain a grain-boundary particle belongs to; -1 for the others.
   Kokkos::View<int*, MemorySpace> grain_ids() const;
 
