@@ -18,6 +18,9 @@ struct RunOptions {
   std::string restart_file;          // a checkpoint to continue from (empty: start afresh)
   std::string parameters_xml;        // the parameter list in use, stored in checkpoints
   long long inject_nan_at_step = -1;  // testing the failure path: this step ends with a NaN velocity
+  // Testing restarts: the run stops as if by SIGTERM after this step of this stage.
+  int interrupt_stage = -1;
+  long long interrupt_step = -1;
   // Called by every process once the first set-up has succeeded, before
   // anything is written: the command line claims the output directory there
   // (io/OutputDirectory.hpp), so that a run refused during set-up writes nothing.

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/Kernel.hpp"
+#include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
 #include "io/Parameters.hpp"
 
@@ -180,10 +181,20 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   } catch (const std::invalid_argument& error) {
     throw ParameterError(error.what());
   }
-  for (double dx : spacings) {
+  for (size_t l = 0; l + 1 < spacings.size(); ++l) {
     SceneConfig level = scene;
-    level.particle_spacing = dx;
+    level.particle_spacing = spacings[l];
     lattice_counts(level);
+    // A throat a coarser level cannot resolve would carry no flow there; its
+    // warnings (under three spacings) are the coarse levels' lot and not repeated.
+    try {
+      check_throats(level.grains, level);
+    } catch (const std::invalid_argument& error) {
+      std::ostringstream msg;
+      msg << "Convergence/Levels: level " << l + 1 << " of " << spacings.size() << " (spacing " << spacings[l]
+          << "): " << error.what();
+      throw ParameterError(msg.str());
+    }
   }
   const auto counts = lattice_counts(scene);
   e.lattice_points = checked_product(counts, "the particle lattice (Domain/Cell Size / Discretization/Particle Spacing)");

@@ -242,9 +242,10 @@ class StageLoop {
         if (stop) break;  // steady: the end writes what is left
         for (auto* o : writers_) o->after_step(sim);
         // Also at the last step, so that a signal in its final few steps is not lost.
-        if ((sim.steps() % kSignalCheckInterval == 0 || sim.steps() == last_step_) &&
-            sim.communicator().any(stop_signal_pending())) {
-          const int signal_number = stop_signal_received();
+        const bool test_interrupt = index_ == options_.interrupt_stage && sim.steps() == options_.interrupt_step;
+        if (test_interrupt || ((sim.steps() % kSignalCheckInterval == 0 || sim.steps() == last_step_) &&
+                               sim.communicator().any(stop_signal_pending()))) {
+          const int signal_number = test_interrupt ? SIGTERM : stop_signal_received();
           progress_->finish();
           write_checkpoint_now(true);
           record("signal", seconds(), first_step);
