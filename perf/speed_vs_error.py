@@ -41,6 +41,7 @@ from poresph_runs import ROOT, read_summary, run_poresph, write_csv  # noqa: E40
 L = 0.1
 SANGANI_ACRIVOS = {20: 1 / 51.53, 50: 1 / 532.55}
 DEFAULT = "fixed (default)"
+LADDER = "ladder, 3 levels"
 MOVING = "moving, shifting"  # the paper's moving particles with particle shifting, session 5's default
 MOVING_SETTINGS = ["Discretization/Particle Motion=lagrangian", "Discretization/Wall Pressure=continuity",
                    "Discretization/Particle Shifting=4"]
@@ -54,7 +55,7 @@ def row(scene, variant, dx, summary, reference, ranks):
     return dict(scene=scene, variant=variant, dx_over_L=dx / L, k_over_L2=k, reference=reference,
                 relative_error=k / reference - 1 if reference else None, steady=summary["steady"],
                 steps=summary["steps"], wall_seconds=summary["wall_seconds"], ranks=ranks,
-                wall_seconds_to_end_time=summary["wall_seconds"] * steps_to_end / summary["steps"])
+                wall_seconds_to_end_time=summary["wall_seconds"] * steps_to_end / summary["steps"], uncertainty=None)
 
 
 def read_rows(path):
@@ -91,6 +92,12 @@ def report(rows):
             for r in sel:
                 ax.annotate(f"{r['dx_over_L']:g}L", (r["wall_seconds"] * r["ranks"], abs(r["relative_error"])),
                             fontsize=7, textcoords="offset points", xytext=(4, 4 if curve == DEFAULT else -9))
+        # The ladder: its finest k with the band of the grid convergence index,
+        # at the whole ladder's wall time.
+        for r in (r for r in rows if r["scene"] == scene and r["variant"] == LADDER):
+            cost = r["wall_seconds"] * r["ranks"]
+            ax.errorbar([cost], [abs(r["relative_error"])], yerr=[[0], [r["uncertainty"]]], fmt="*", ms=11,
+                        color=colour, capsize=3, label=f"{scene}, ladder (band: GCI)")
         for marker, variant in [("^", "moving, shifting, raised c"), ("v", "fixed, no convection")]:
             sel = [r for r in rows if r["scene"] == scene and r["variant"] == variant]
             if sel:
@@ -112,6 +119,10 @@ def report(rows):
     for r in rows:
         err = f"{100 * r['relative_error']:+.2f}" if r["relative_error"] is not None else "(reference)"
         ref = f"{r['reference']:.5g}" if r["reference"] is not None else "-"
+        if r["variant"] == LADDER:  # no single spacing or End Time: the band instead
+            print(f"| {r['scene']} | {r['variant']} | 3 levels | {r['k_over_L2']:.5g} | {ref} | {err} "
+                  f"(band +-{100 * r['uncertainty']:.2f}) | | {r['wall_seconds']:.0f} | {r['ranks']} | | |")
+            continue
         print(f"| {r['scene']} | {r['variant']} | {r['dx_over_L']:g} | {r['k_over_L2']:.5g} | {ref} | "
               f"{err} | {r['steps']} | {r['wall_seconds']:.0f} | {r['ranks']} | {r['wall_seconds_to_end_time']:.0f} | "
               f"{r['wall_seconds_to_end_time'] / r['wall_seconds']:.1f}x |")
@@ -128,6 +139,8 @@ def main():
     parser.add_argument("--square-arrays-csv", default=None,
                         help="take the default runs of c = 0.2 and 0.5 from perf/square_arrays.py's CSV "
                              "instead of running them again")
+    parser.add_argument("--ladder-csv", default=None,
+                        help="perf/ladder.py's ladder.csv: the ladders' points, with their bands")
     parser.add_argument("--replot", default=None, metavar="CSV",
                         help="make the plot and the table from an earlier speed_vs_error.csv, running nothing")
     args = parser.parse_args()
@@ -160,7 +173,8 @@ def main():
                 rows.append(dict(scene=f"square array c = 0.{fraction // 10}", variant=DEFAULT, dx_over_L=dx / L,
                                  k_over_L2=k, reference=reference, relative_error=k / reference - 1,
                                  steady=r["steady"], steps=steps, wall_seconds=wall, ranks=1,
-                                 wall_seconds_to_end_time=wall * (END_TIME / float(r["simulated_time"]))))
+                                 wall_seconds_to_end_time=wall * (END_TIME / float(r["simulated_time"])),
+                                 uncertainty=None))
             todo = variants if not done else [moving]
             for variant, settings in todo + (middle_variants if dx == 0.002 else []):
                 out = os.path.join(args.out, f"c{fraction}-dx{dx}-{variant.replace(' ', '_')}")
@@ -196,6 +210,14 @@ def main():
             print(rows[-1], file=sys.stderr, flush=True)
     for dx, variant, s in given:
         rows.append(row("problem III", variant, dx, s, None if s is reference_run else reference, s["ranks"]))
+    if args.ladder_csv:
+        with open(args.ladder_csv) as f:
+            for r in csv.DictReader(f):
+                k, ref = float(r["k"]), float(r["reference"])
+                rows.append(dict(scene=r["scene"], variant=LADDER, dx_over_L=None, k_over_L2=k, reference=ref,
+                                 relative_error=k / ref - 1, steady=True, steps=None,
+                                 wall_seconds=float(r["ladder_wall"]), ranks=int(r["ranks"]),
+                                 wall_seconds_to_end_time=None, uncertainty=float(r["uncertainty"])))
     save()
 
     write_csv(os.path.join(ROOT, "docs", "figures", "speed_vs_error.csv"), rows)

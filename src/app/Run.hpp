@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "diagnostics/ChannelFlow.hpp"
 #include "io/SceneConfig.hpp"
 #include "io/Summary.hpp"
 
@@ -17,6 +18,9 @@ struct RunOptions {
   std::string restart_file;          // a checkpoint to continue from (empty: start afresh)
   std::string parameters_xml;        // the parameter list in use, stored in checkpoints
   long long inject_nan_at_step = -1;  // testing the failure path: this step ends with a NaN velocity
+  // Testing restarts: the run stops as if by SIGTERM after this step of this stage.
+  int interrupt_stage = -1;
+  long long interrupt_step = -1;
   // Called by every process once the first set-up has succeeded, before
   // anything is written: the command line claims the output directory there
   // (io/OutputDirectory.hpp), so that a run refused during set-up writes nothing.
@@ -33,14 +37,10 @@ struct RunInterrupted : std::runtime_error {
 
 // Installs the SIGINT/SIGTERM handlers that ask the time loop to stop.
 void install_stop_signal_handlers();
+// Whether this process has received SIGINT or SIGTERM (no communication).
+bool stop_signal_pending();
 // The signal received since (SIGINT or SIGTERM), or 0, agreed by all processes.
 int stop_signal_received();
-
-struct ProfileSample {
-  double requested_time;  // as asked in Diagnostics/Profile Sample Times (or the end)
-  double time;            // the step's time at which it was taken
-  double error;           // max |v_x - series| / v_max over fluid particles
-};
 
 // What a run measured; summary.json is this, serialised.
 struct RunReport {
@@ -50,7 +50,8 @@ struct RunReport {
   long long steps = 0;
   long long timed_steps = 0;  // steps run by this process (after a restart: since it)
   double simulated_time = 0, time_step = 0, smoothing_length = 0, sound_speed = 0;
-  std::string stopped_by;  // end_time, max_steps, steady_state, failure, signal
+  double particle_spacing = 0;  // of the finest level
+  std::string stopped_by;  // end_time, max_steps, steady_state, failure, signal, error (of the last stage)
   std::string failure;     // what stopped a failed run
   std::vector<std::string> warnings;  // from the input checks (narrow throats)
   long long restarted_from_step = -1;
@@ -82,6 +83,23 @@ struct RunReport {
   // summed over steps, and the deepest they had gone, in particle spacings.
   long long grain_surface_corrections = 0;
   double max_corrected_depth = 0;
+
+  // The resolution ladder (Convergence/Levels > 1): what each level measured,
+  // coarse to fine, and the grid convergence index from them.
+  struct Level {
+    double spacing = 0;
+    double permeability[3][3] = {};
+    long long steps = 0;
+    double wall_seconds = 0;
+    bool warm_started = true, steady = true;
+  };
+  std::vector<Level> levels;
+  double permeability_extrapolated[3][3] = {};
+  double permeability_uncertainty[3][3] = {};  // relative; NaN where a component is about zero
+  double observed_order = 0;                   // of the largest component (NaN with two levels)
+  // Permeability/Linearity Check: (k at F/2 - k at F) / k at F, per component.
+  bool has_linearity = false;
+  double darcy_linearity[3][3] = {};
 
   JsonObject to_json() const;
 };

@@ -1,5 +1,7 @@
 #include "app/SceneCheck.hpp"
 
+#include "app/RunPlan.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/Kernel.hpp"
+#include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
 #include "io/Parameters.hpp"
 
@@ -171,6 +174,28 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   } catch (const std::invalid_argument& error) {
     throw ParameterError(error.what());
   }
+  // Every level of the resolution ladder must fit the cell too.
+  std::vector<double> spacings;
+  try {
+    spacings = level_spacings(scene);
+  } catch (const std::invalid_argument& error) {
+    throw ParameterError(error.what());
+  }
+  for (size_t l = 0; l + 1 < spacings.size(); ++l) {
+    SceneConfig level = scene;
+    level.particle_spacing = spacings[l];
+    lattice_counts(level);
+    // A throat a coarser level cannot resolve would carry no flow there; its
+    // warnings (under three spacings) are the coarse levels' lot and not repeated.
+    try {
+      check_throats(level.grains, level);
+    } catch (const std::invalid_argument& error) {
+      std::ostringstream msg;
+      msg << "Convergence/Levels: level " << l + 1 << " of " << spacings.size() << " (spacing " << spacings[l]
+          << "): " << error.what();
+      throw ParameterError(msg.str());
+    }
+  }
   const auto counts = lattice_counts(scene);
   e.lattice_points = checked_product(counts, "the particle lattice (Domain/Cell Size / Discretization/Particle Spacing)");
   e.particles = e.lattice_points;
@@ -195,6 +220,10 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   // a View, copies it to the host and splits it into the written arrays.
   const double grid_per_process = static_cast<double>(e.grid_nodes) / ranks * (3.0 * (D + 2) + 5) * 8;
   e.bytes_per_process = std::max(slots * slot.run + grid_per_process, owned * slot.setup + slots * slot.run / 2);
+  // A warm start holds the stage before it while it sets up: the next
+  // coarser level, or the finest level itself for the Darcy check.
+  if (scene.linearity_check) e.bytes_per_process *= 2;
+  else if (spacings.size() > 1) e.bytes_per_process *= 1 + std::pow(spacings[spacings.size() - 1] / spacings[spacings.size() - 2], D);
   e.bytes = e.bytes_per_process * ranks;
 
   const double need = e.bytes_per_process * budget.processes_on_machine;

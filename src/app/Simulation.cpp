@@ -158,8 +158,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   convection_ = fixed_ && scene.convection;
   volume_density_ = fixed_ ? scene.density : 0.0;
   // Particles that never move need no skin: their list is exact forever.
-  skin_ = fixed_ ? 0.0 : scene.neighbour_skin * derived_.smoothing_length;
-  const double support = kernel_.cutoff + skin_;  // ghosts and lists reach this far
+  const double skin = fixed_ ? 0.0 : scene.neighbour_skin * derived_.smoothing_length;
   Decomposition<Dim> decomposition;
   if (!boxes.empty()) {
     std::array<double, Dim> cell{};
@@ -171,14 +170,11 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     decomposition =
         scene.grid_decomposition ? decompose<Dim>(scene, comm_.size()) : rcb_decomposition<Dim>(scene, comm_);
   }
-  halo_ = Halo<Dim, ExecSpace>(comm_, decomposition, support);
-  const auto& box = halo_.box();
+  neighbourhood_ = Neighbourhood<Dim, ExecSpace>(comm_, decomposition, scene.cell_size, kernel_.cutoff, skin);
+  const auto& box = neighbourhood_.box();
   double box_lo[Dim], box_hi[Dim];
   for (int d = 0; d < Dim; ++d) {
     box_lo[d] = box.lo[d], box_hi[d] = box.hi[d];
-    // The neighbour search covers the box and its halo (walls beyond the cell included).
-    search_lo_[d] = std::max(box.lo[d], 0.0) - support;
-    search_hi_[d] = std::min(box.hi[d], scene.cell_size[d]) + support;
     body_force_[d] = scene.body_force[d];
   }
   // The bound sqrt(3)/4 dx on d_a (Morris et al. 1997) keeps a moving
@@ -225,31 +221,11 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
 }
 
 template <int Dim, class ExecSpace>
-bool Simulation<Dim, ExecSpace>::moved_beyond_skin() const {
-  if (!built_) return true;
-  if (fixed_) return false;
-  const auto x = particles_.x;
-  const auto x0 = x_at_build_;
-  const double limit_sq = 0.25 * skin_ * skin_;
-  int moved = 0;
-  static const std::string label_moved_beyond_skin = "poresph::moved_beyond_skin";
-  Kokkos::parallel_reduce(
-      label_moved_beyond_skin, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
-      KOKKOS_LAMBDA(int i, int& count) {
-        double d_sq = 0;
-        for (int d = 0; d < Dim; ++d) d_sq += (x(i, d) - x0(i, d)) * (x(i, d) - x0(i, d));
-        count += d_sq > limit_sq;
-      },
-      moved);
-  return comm_.any(moved > 0);  // every process rebuilds together: they exchange ghosts
-}
-
-template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::update_pressure_and_ghosts() {
   update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_,
                   volume_density_);
   space_.fence();
-  halo_.update(particles_);
+  neighbourhood_.update_ghosts(particles_);
   update_wall_pressure();
 }
 
@@ -260,46 +236,38 @@ void Simulation<Dim, ExecSpace>::update_wall_pressure() {
                             derived_.sound_speed * derived_.sound_speed, scene_.density, reference_pressure_,
                             volume_density_);
   space_.fence();
-  halo_.update(particles_);
+  neighbourhood_.update_ghosts(particles_);
 }
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
-  if (!moved_beyond_skin()) {
+  // Fixed particles keep their first list; moving ones until some has gone half the skin.
+  const bool rebuild = !neighbourhood_.built() || (!fixed_ && neighbourhood_.stale(space_, particles_));
+  if (!rebuild) {
     update_pressure_and_ghosts();
     return;
   }
-  // Positions stay unwrapped between builds so that ghosts and lists remain consistent.
   update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_,
                   volume_density_);
   space_.fence();
-  halo_.wrap(particles_);
-  halo_.migrate(particles_);
-  build_neighbourhood();
+  neighbourhood_.rebuild(space_, particles_);
+  built_neighbourhood();
   update_wall_pressure();
 }
 
 template <int Dim, class ExecSpace>
-void Simulation<Dim, ExecSpace>::build_neighbourhood() {
-  halo_.build(particles_);
-  cells_.build(space_, particles_.x, particles_.total(), search_lo_, search_hi_, kernel_.cutoff + skin_);
-  neighbours_.build(space_, cells_, particles_.x, particles_.owned, kernel_.cutoff + skin_);
-  if (fixed_) neighbours_.cache_geometry(space_, particles_.x, particles_.owned, kernel_);
-  if (extrapolate_walls_) wall_neighbours_.build(space_, cells_, particles_, kernel_.cutoff + skin_);
+void Simulation<Dim, ExecSpace>::built_neighbourhood() {
+  if (fixed_) neighbourhood_.list().cache_geometry(space_, particles_.x, particles_.owned, kernel_);
+  if (extrapolate_walls_)
+    wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
   pair_sums_.reserve(particles_.owned);
-  const auto owned = std::make_pair(0, particles_.owned);
-  if (static_cast<int>(x_at_build_.extent(0)) < particles_.owned)
-    x_at_build_ = decltype(x_at_build_)("x_at_build", particles_.owned);
-  Kokkos::deep_copy(space_, Kokkos::subview(x_at_build_, owned, Kokkos::ALL),
-                    Kokkos::subview(particles_.x, owned, Kokkos::ALL));
-  built_ = true;
-  ++rebuilds_;
 }
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::compute_rates() {
   refresh_neighbourhood();
-  compute_pair_rates(space_, particles_, neighbours_, pair_sums_, kernel_, fluid_, body_force_, pair_options_);
+  compute_pair_rates(space_, particles_, neighbourhood_.list(), pair_sums_, kernel_, fluid_, body_force_,
+                     pair_options_);
   space_.fence();
 }
 
@@ -324,7 +292,7 @@ void Simulation<Dim, ExecSpace>::step() {
   check_step();
   if (!fixed_ && scene_.resummation_interval > 0 && steps_ % scene_.resummation_interval == 0) {
     refresh_neighbourhood();
-    resum_fluid_density(space_, particles_, neighbours_, pair_sums_, kernel_);
+    resum_fluid_density(space_, particles_, neighbourhood_.list(), pair_sums_, kernel_);
   }
   space_.fence();
 }
@@ -411,11 +379,12 @@ void Simulation<Dim, ExecSpace>::resume(long long steps, const typename Particle
     Kokkos::deep_copy(space_, Kokkos::subview(particles_.x, owned, Kokkos::ALL),
                       Kokkos::subview(x_at_build, owned, Kokkos::ALL));
     space_.fence();
-    build_neighbourhood();
+    neighbourhood_.build(space_, particles_);
+    built_neighbourhood();
     Kokkos::deep_copy(space_, Kokkos::subview(particles_.x, owned, Kokkos::ALL), current);
     space_.fence();
   } else {
-    built_ = false;  // the next refresh wraps, migrates and builds
+    neighbourhood_.invalidate();  // the next refresh wraps, migrates and builds
   }
   long long fluid = 0;
   const auto kind = particles_.kind;
@@ -438,7 +407,7 @@ GridBlock<Dim> Simulation<Dim, ExecSpace>::interpolate_to_grid(const std::vector
   // never changes when the lists are rebuilt (and so the run's bits).
   update_pressure_and_ghosts();
   GridBlock<Dim> block;
-  const auto& box = halo_.box();
+  const auto& box = neighbourhood_.box();
   for (int d = 0; d < Dim; ++d) {
     block.spacing[d] = scene_.cell_size[d] / points[d];
     // Nodes (i + 1/2) spacing inside [lo, hi) of this box (clipped to the cell).
@@ -450,11 +419,36 @@ GridBlock<Dim> Simulation<Dim, ExecSpace>::interpolate_to_grid(const std::vector
   }
   Kokkos::View<double**, MemorySpace> grid("grid_values", block.nodes(), Dim + 2);
   if (block.nodes() > 0)
-    poresph::interpolate_to_grid(space_, particles_, cells_, kernel_, grain_map_, block, grid);
+    poresph::interpolate_to_grid(space_, particles_, neighbourhood_.cells(), kernel_, grain_map_, block, grid);
   space_.fence();
   auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), grid);
   values.assign(host.data(), host.data() + host.size());
   return block;
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::warm_start(Simulation& finer, double scale) {
+  update_pressure_and_ghosts();  // the ghosts as they are now: they serve the box's edge
+  auto& F = finer.particles_;
+  const int n = F.owned;
+  Kokkos::View<double**, MemorySpace> values("warm_start_values", n, Dim + 1);
+  const double rest_pressure = derived_.sound_speed * derived_.sound_speed * scene_.density;
+  interpolate_fluid_at(space_, particles_, neighbourhood_.cells(), kernel_, F.x, n, rest_pressure, values);
+  space_.fence();
+  // The pressure carries over, not the density: the finer level's sound speed differs.
+  const double fine_c_sq = finer.derived_.sound_speed * finer.derived_.sound_speed;
+  const double rho0 = finer.scene_.density;
+  const auto v = F.v, rho = F.rho;
+  const auto kind = F.kind;
+  static const std::string label = "poresph::warm_start";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(finer.space_, 0, n), KOKKOS_LAMBDA(int i) {
+        if (kind(i) != kFluid) return;
+        for (int d = 0; d < Dim; ++d) v(i, d) = scale * values(i, d);
+        rho(i) = rho0 + scale * values(i, Dim) / fine_c_sq;
+      });
+  finer.space_.fence();
+  finer.compute_rates();
 }
 
 template <int Dim, class ExecSpace>

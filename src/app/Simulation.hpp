@@ -19,7 +19,7 @@
 #include "io/SceneConfig.hpp"
 #include "parallel/Communicator.hpp"
 #include "parallel/Decomposition.hpp"
-#include "parallel/Halo.hpp"
+#include "parallel/Neighbourhood.hpp"
 #include "physics/GrainContact.hpp"
 #include "physics/GridInterpolation.hpp"
 #include "physics/PairRates.hpp"
@@ -96,22 +96,31 @@ class Simulation {
   ParticleSet& particles() { return particles_; }
   const ParticleSet& particles() const { return particles_; }
 
-  const Decomposition<Dim>& decomposition() const { return halo_.decomposition(); }
-  const typename ParticleSet::Vector& positions_at_build() const { return x_at_build_; }
+  const Decomposition<Dim>& decomposition() const { return neighbourhood_.decomposition(); }
+  const typename ParticleSet::Vector& positions_at_build() const { return neighbourhood_.positions_at_build(); }
 
   // Velocity, pressure and solid flag on this process's block of a grid of
   // `points` nodes per direction over the cell (physics/GridInterpolation.hpp),
   // node-major, x fastest; the block is returned too.
   GridBlock<Dim> interpolate_to_grid(const std::vector<int>& points, std::vector<double>& values);
 
+  // The fluid's velocity and pressure above the rest pressure c^2 rho0 at the
+  // owned fluid particles of `finer` (a simulation of the same scene at
+  // another spacing, decomposed into the same boxes), interpolated from this
+  // one's fluid, ghosts included; then `finer` starts from them: its
+  // velocity, and its density from the pressure under its own sound speed.
+  // Boundary particles keep theirs (their pressure follows the fluid's).
+  // scale multiplies what is taken (0.5 for the same flow at half the force).
+  void warm_start(Simulation& finer, double scale = 1.0);
+
   // Per owned particle, the grain a grain-boundary particle belongs to; -1 for the others.
   Kokkos::View<int*, MemorySpace> grain_ids() const;
 
   // Neighbour-list rebuilds so far (the list is kept while particles move less than half the skin).
-  long long neighbour_rebuilds() const { return rebuilds_; }
-  long long neighbour_pairs() const { return neighbours_.pairs(); }
+  long long neighbour_rebuilds() const { return neighbourhood_.builds(); }
+  long long neighbour_pairs() const { return neighbourhood_.list().pairs(); }
   // Listed neighbours (support and skin) per owned particle, counting both ends of a half list's pairs.
-  double neighbours_per_particle() const { return neighbours_.neighbours_per_particle(); }
+  double neighbours_per_particle() const { return neighbourhood_.list().neighbours_per_particle(); }
 
   // Over all processes.
   long long fluid_particles() const { return fluid_count_; }
@@ -138,14 +147,14 @@ class Simulation {
   // fresh halo, cell list and neighbour list if some particle moved more than
   // half the skin since the last build, otherwise the ghosts updated in place.
   void refresh_neighbourhood();
-  bool moved_beyond_skin() const;
   // Pressure of owned particles, then the ghosts' changing fields along the recorded routes.
   void update_pressure_and_ghosts();
   // With an extrapolated wall pressure: the owned boundary particles' from
   // the fluid (ghosts current), then the ghosts again, so that they carry it.
   void update_wall_pressure();
-  // Halo, cells and neighbour list for the owned particles where they are now.
-  void build_neighbourhood();
+  // What rests on a fresh neighbourhood: the cached pair geometry of fixed
+  // particles, the boundary particles' fluid neighbours, room for the sums.
+  void built_neighbourhood();
   // Stops the run if the step left a particle count change or an unhealthy particle.
   void check_step();
   [[noreturn]] void report_failure(const HealthCounts& counts);
@@ -156,16 +165,9 @@ class Simulation {
   DerivedParameters derived_;
   ParticleSet particles_;
   QuinticKernel<Dim> kernel_;
-  Halo<Dim, ExecSpace> halo_;
-  CellList<Dim, ExecSpace> cells_;
-  NeighbourList<Dim, ExecSpace> neighbours_;
+  Neighbourhood<Dim, ExecSpace> neighbourhood_;  // ghosts, cells, the pair list
   WallNeighbours<Dim, ExecSpace> wall_neighbours_;  // with an extrapolated wall pressure
   PairSums<ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
-  double skin_ = 0.0;
-  typename ParticleSet::Vector x_at_build_;  // owned positions when the list was built
-  bool built_ = false;
-  long long rebuilds_ = 0;
-  Vec<Dim> search_lo_, search_hi_;  // cell extended by the support: where ghosts and walls live
   Vec<Dim> body_force_;
   GrainMap<Dim, MemorySpace> grain_map_;
   long long surface_corrections_ = 0;  // on this process

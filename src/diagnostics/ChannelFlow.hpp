@@ -61,4 +61,10 @@ struct ChannelFlow {
   }
 };
 
+struct ProfileSample {
+  double requested_time;  // as asked in Diagnostics/Profile Sample Times (or the end)
+  double time;            // the step's time at which it was taken
+  double error;           // max |v_x - series| / v_max over fluid particles
+};
+
 }  // namespace poresph

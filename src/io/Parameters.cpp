@@ -99,8 +99,15 @@ RCP<ParameterList> make_valid_parameters() {
   }
   {
     auto& s = list->sublist("Discretization", false, "Particles, kernel and time stepping.");
-    s.set("Particle Spacing", 0.0, "REQUIRED. Initial lattice spacing dx (m); must divide every periodic cell side.",
+    s.set("Particle Spacing", 0.0,
+          "Initial lattice spacing dx (m); must divide every periodic cell side. This or Spacings Across Throat "
+          "is REQUIRED, not both.",
           real_in(0.0, kHuge));
+    s.set("Spacings Across Throat", 0.0,
+          "Instead of Particle Spacing: the spacing is the narrowest pore throat between grains (the gap the "
+          "throat check measures) divided by this, made a little finer so that the cell holds a whole number "
+          "of spacings. Resolution where the flow is decided. 0: not used.",
+          real_in(0.0, 1e6));
     s.set("Particle Motion", std::string("fixed"),
           "'fixed': particles stay on their lattice and only velocity, density and pressure evolve (Eulerian "
           "SPH with the convective term, Fluid/Convection): the arrangement cannot lose its order, nothing "
@@ -190,10 +197,28 @@ RCP<ParameterList> make_valid_parameters() {
           "below it. The span is the larger of Steady Window and the flow's spin-up time k / (nu porosity). "
           "0 = run to End Time.",
           real_in(0.0, 1.0));
+    s.set("Linearity Check", false,
+          "Repeat the finest level at half the body force, starting from its end, and report darcy_linearity, "
+          "the relative change of each k component: above 1 % a warning says the flow is not in the Darcy "
+          "regime.");
     s.set("Steady Window", 0.0,
           "Shortest span (s) of the steady-state test; the flow's spin-up time k / (nu porosity) sets it when "
           "longer. 0: the spin-up time alone.",
           real_in(0.0, kHuge));
+  }
+  {
+    auto& s = list->sublist("Convergence", false,
+                            "A resolution ladder: the run goes through several spacings, coarse to fine, each "
+                            "level starting from the one before, and reports k with its uncertainty from the grid "
+                            "convergence index (docs/method.md).");
+    s.set("Levels", 1,
+          "Number of levels; the finest has Discretization/Particle Spacing (or Spacings Across Throat), each "
+          "coarser one Refinement Ratio times the next. 1: one resolution.",
+          int_in(1, 10));
+    s.set("Refinement Ratio", 2.0,
+          "Spacing of a level over that of the next finer one (> 1; rounded so that the cell holds whole "
+          "numbers of spacings).",
+          real_in(1.05, 10.0));
   }
   {
     auto& s = list->sublist("Run", false, "How long to run.");
@@ -399,6 +424,38 @@ void check_types(const ParameterList& list, const ParameterList& valid, const st
   }
 }
 
+// Discretization/Spacings Across Throat = n: the narrowest open throat
+// divided by n, rounded down to the largest spacing that fits every cell
+// side a whole number of times (searched up to twice the count).
+double spacing_across_throat(const SceneConfig& scene, double n) {
+  double largest_side = 0;
+  for (int d = 0; d < scene.dimension; ++d) largest_side = std::max(largest_side, scene.cell_size[d]);
+  // The narrowest throat, searched among ever wider gaps: grains are binned
+  // by the gap asked for, so a small one keeps the search linear.
+  ThroatSurvey survey;
+  for (double widest = largest_side * 1e-3; survey.narrowest.empty() && widest < 4 * largest_side; widest *= 4)
+    survey = narrow_throats(scene.grains, scene, widest, 1);
+  if (survey.narrowest.empty())
+    throw ParameterError("Discretization/Spacings Across Throat needs a pore throat between grains, and this scene "
+                         "has none (no grains, or none with an open gap): give Discretization/Particle Spacing");
+  const double gap = survey.narrowest.front().gap;
+  const long long first = static_cast<long long>(std::ceil(scene.cell_size[0] * n / gap - 1e-9));
+  for (long long count = std::max(1LL, first); count <= 2 * first + 2; ++count) {
+    const double dx = scene.cell_size[0] / count;
+    bool fits = true;
+    for (int d = 1; d < scene.dimension; ++d) {
+      const double along = scene.cell_size[d] / dx;
+      fits = fits && std::abs(along - std::round(along)) <= 1e-6 * along;
+    }
+    if (fits) return dx;
+  }
+  std::ostringstream msg;
+  msg << "Discretization/Spacings Across Throat = " << n << ": no spacing near " << gap / n
+      << " (the narrowest throat, " << gap << " wide, over " << n << ") fits every side of Domain/Cell Size a "
+      << "whole number of times; give Discretization/Particle Spacing";
+  throw ParameterError(msg.str());
+}
+
 }  // namespace
 
 RCP<const ParameterList> valid_parameters() {
@@ -446,12 +503,17 @@ void validate_parameters(ParameterList& list) {
   // Teuchos has no notion of a required parameter.
   const std::pair<const char*, const char*> required[] = {{"Domain", "Cell Size"},
                                                           {"Fluid", "Kinematic Viscosity"},
-                                                          {"Discretization", "Particle Spacing"},
                                                           {"Run", "End Time"}};
   for (const auto& [group, name] : required)
     if (!has_value(list, group, name))
       throw ParameterError(std::string("missing required parameter ") + group + "/" + name +
                            " (see poresph --help-parameters)");
+  // The spacing, given or from the narrowest throat: exactly one of them.
+  const bool spacing = has_value(list, "Discretization", "Particle Spacing"),
+             across = has_value(list, "Discretization", "Spacings Across Throat");
+  if (!spacing && !across)
+    throw ParameterError("missing required parameter Discretization/Particle Spacing (or Discretization/Spacings "
+                         "Across Throat; see poresph --help-parameters)");
   list.validateParametersAndSetDefaults(*valid_parameters());
 }
 
@@ -527,7 +589,11 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
 
   const auto& disc = list.sublist("Discretization");
   scene.particle_spacing = disc.get<double>("Particle Spacing");
-  if (!(scene.particle_spacing > 0)) fail("Discretization/Particle Spacing must be positive");
+  const double across_throat = disc.get<double>("Spacings Across Throat");
+  if (scene.particle_spacing > 0 && across_throat > 0)
+    fail("Discretization/Particle Spacing and Discretization/Spacings Across Throat exclude each other: give one");
+  if (!(scene.particle_spacing > 0) && !(across_throat > 0))
+    fail("Discretization/Particle Spacing (or Spacings Across Throat) must be positive");
   scene.smoothing_length_ratio = disc.get<double>("Smoothing Length Ratio");
   scene.resummation_interval = disc.get<int>("Density Resummation Interval");
   scene.time_step = disc.get<double>("Time Step");
@@ -617,6 +683,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
       scene.allow_overlapping_grains = scene.allow_overlapping_grains || spec.contacts;
     }
     check_grains(scene.grains, scene);
+    if (across_throat > 0) scene.particle_spacing = spacing_across_throat(scene, across_throat);
     const auto throats = check_throats(scene.grains, scene);
     scene.warnings.insert(scene.warnings.end(), throats.begin(), throats.end());
   } catch (const std::invalid_argument& e) {
@@ -625,6 +692,10 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
 
   const auto& permeability = list.sublist("Permeability");
   scene.permeability_tensor = permeability.get<bool>("Tensor");
+  scene.linearity_check = permeability.get<bool>("Linearity Check");
+  const auto& convergence = list.sublist("Convergence");
+  scene.convergence_levels = convergence.get<int>("Levels");
+  scene.refinement_ratio = convergence.get<double>("Refinement Ratio");
   scene.steady_tolerance = permeability.get<double>("Steady Tolerance");
   scene.steady_window = permeability.get<double>("Steady Window");
 

@@ -5,9 +5,12 @@
 // change, and the wall time to the predicted steady stop: a percentage of
 // End Time would say 0.3 % for a run that is nearly done.
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <string>
+
+#include "diagnostics/Observer.hpp"
 
 namespace poresph {
 
@@ -63,6 +66,34 @@ class ProgressLine {
   bool enabled_, printed_ = false, started_ = false;
   Clock::time_point start_, last_;
   double start_time_ = 0;
+};
+
+// The progress line as an observer of the time loop; status() says where
+// the run stands (the permeability probe's k and predicted stop).
+template <class Sim>
+class ProgressObserver : public Observer<Sim> {
+ public:
+  ProgressObserver(bool enabled, std::string label, long long last_step, std::function<ProgressStatus()> status)
+      : line_(enabled), enabled_(enabled), label_(std::move(label)), last_step_(last_step), status_(std::move(status)) {}
+
+  void after_step(Sim& sim) override {
+    if (!enabled_) return;
+    ProgressStatus s = status_ ? status_() : ProgressStatus{};
+    s.step = sim.steps();
+    s.time = sim.time();
+    s.fraction_of_end = static_cast<double>(sim.steps()) / last_step_;
+    line_.update(label_, s);
+  }
+  void at_end(Sim&) override { line_.finish(); }
+  // Ends the line before other output (a failure, a signal).
+  void finish() { line_.finish(); }
+
+ private:
+  ProgressLine line_;
+  bool enabled_;
+  std::string label_;
+  long long last_step_;
+  std::function<ProgressStatus()> status_;
 };
 
 }  // namespace poresph

@@ -96,8 +96,15 @@ struct SceneConfig {
   // The run stops, naming the particle, when |rho/rho0 - 1| of a fluid particle exceeds this.
   double density_variation_limit = 0.1;
 
+  // The resolution ladder (app/RunPlan.hpp): this many levels, each
+  // refinement_ratio times finer than the one before, the finest at
+  // particle_spacing, each starting from the one before.
+  int convergence_levels = 1;
+  double refinement_ratio = 2.0;
   // Permeability: drive every direction in turn (full tensor) or only along the body force.
   bool permeability_tensor = false;
+  // Repeat the finest level at half the body force: how linear (Darcy) the flow is.
+  bool linearity_check = false;
   double steady_tolerance = 0.0;  // on k's change over a span and its predicted change to come; 0 = run to the end
   double steady_window = 0.0;     // shortest span (s); the spin-up time k / (nu porosity) when longer
 };

@@ -65,6 +65,7 @@ class Decomposition {
 
   int ranks() const { return static_cast<int>(boxes_.size()); }
   const Box<Dim>& box(int rank) const { return boxes_[rank]; }
+  const std::vector<Box<Dim>>& boxes() const { return boxes_; }
   const std::array<double, Dim>& cell() const { return cell_; }
   const std::array<bool, Dim>& periodic() const { return periodic_; }
 

@@ -76,4 +76,36 @@ void interpolate_to_grid(const ExecSpace& space, const Particles<Dim, typename E
       });
 }
 
+// The same Shepard interpolation of the fluid's velocity and pressure at n
+// arbitrary points (a finer level's particles, physics/WarmStart.hpp), the
+// pressure as p - rest_pressure; a point without fluid in reach gets zeros.
+// Columns of `values`: velocity (Dim), pressure.
+template <int Dim, class ExecSpace, class PointView>
+void interpolate_fluid_at(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                          const CellList<Dim, ExecSpace>& cells, const QuinticKernel<Dim>& kernel,
+                          const PointView& points, int n, double rest_pressure,
+                          const Kokkos::View<double**, typename ExecSpace::memory_space>& values) {
+  const auto Q = P;
+  static const std::string label = "poresph::interpolate_fluid_at";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(space, 0, n), KOKKOS_LAMBDA(int i) {
+        const Vec<Dim> x = row<Dim>(points, i);
+        double weight_sum = 0, velocity[Dim] = {}, pressure = 0;
+        cells.for_each_candidate(x, [&](int j) {
+          if (Q.kind(j) != kFluid) return;
+          double r_sq = 0;
+          for (int d = 0; d < Dim; ++d) r_sq += (x[d] - Q.x(j, d)) * (x[d] - Q.x(j, d));
+          if (r_sq >= kernel.cutoff_sq) return;
+          const double w = Q.m(j) / Q.rho(j) * kernel.value(math::sqrt(r_sq));
+          weight_sum += w;
+          for (int d = 0; d < Dim; ++d) velocity[d] += w * Q.v(j, d);
+          pressure += w * (Q.p(j) - rest_pressure);
+        });
+        for (int c = 0; c <= Dim; ++c) values(i, c) = 0.0;
+        if (weight_sum <= 0) return;
+        for (int d = 0; d < Dim; ++d) values(i, d) = velocity[d] / weight_sum;
+        values(i, Dim) = pressure / weight_sum;
+      });
+}
+
 }  // namespace poresph

@@ -1,0 +1,87 @@
+#include "app/RunPlan.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace poresph {
+
+std::vector<double> level_spacings(const SceneConfig& scene) {
+  const int levels = scene.convergence_levels;
+  std::vector<double> spacings(levels);
+  spacings[levels - 1] = scene.particle_spacing;
+  // Counts along the first side; the other sides must follow in proportion.
+  const double finest_count = scene.cell_size[0] / scene.particle_spacing;
+  for (int l = levels - 2; l >= 0; --l) {
+    const double ratio = std::pow(scene.refinement_ratio, levels - 1 - l);
+    const double count = std::max(1.0, std::round(finest_count / ratio));
+    const double dx = scene.cell_size[0] / count;
+    for (int d = 1; d < scene.dimension; ++d) {
+      const double n = scene.cell_size[d] / dx;
+      if (std::abs(n - std::round(n)) > 1e-6 * n) {
+        std::ostringstream msg;
+        msg << "Convergence/Levels = " << levels << ": level " << l << " (spacing " << dx << ", "
+            << scene.refinement_ratio << "^" << levels - 1 - l << " times the finest) does not fit Domain/Cell Size["
+            << d << "] = " << scene.cell_size[d] << " a whole number of times; choose a spacing or ratio that does";
+        throw std::invalid_argument(msg.str());
+      }
+    }
+    if (!(dx > spacings[l + 1] * (1 + 1e-9))) {
+      std::ostringstream msg;
+      msg << "Convergence/Levels = " << levels << ": level " << l << " would have spacing " << dx
+          << ", no coarser than level " << l + 1 << "'s " << spacings[l + 1]
+          << " (too many levels for the cell at Convergence/Refinement Ratio = " << scene.refinement_ratio << ")";
+      throw std::invalid_argument(msg.str());
+    }
+    spacings[l] = dx;
+  }
+  return spacings;
+}
+
+std::vector<Stage> plan_run(const SceneConfig& scene) {
+  const auto spacings = level_spacings(scene);
+  const int levels = static_cast<int>(spacings.size());
+  std::vector<int> axes;
+  if (scene.permeability_tensor)
+    for (int d = 0; d < scene.dimension; ++d) axes.push_back(d);
+  else
+    axes.push_back(-1);
+  std::vector<Stage> stages;
+  for (int axis : axes) {
+    const std::string axis_suffix = axis >= 0 ? std::string("_") + "xyz"[axis] : "";
+    for (int l = 0; l < levels; ++l) {
+      Stage s;
+      s.level = l, s.levels = levels, s.spacing = spacings[l], s.drive_axis = axis;
+      s.warm = l > 0;
+      s.suffix = axis_suffix + (l < levels - 1 ? "_level" + std::to_string(l) : "");
+      stages.push_back(s);
+    }
+    if (scene.linearity_check) {
+      Stage s = stages.back();
+      s.half_force = true;
+      // Darcy flow is linear in the force: half the finest flow is where a
+      // linear flow ends, and what is left to settle is the inertia.
+      s.warm = true, s.warm_scale = 0.5;
+      s.suffix = axis_suffix + "_half_force";
+      stages.push_back(s);
+    }
+  }
+  return stages;
+}
+
+SceneConfig stage_scene(const SceneConfig& scene, const Stage& stage) {
+  SceneConfig s = scene;
+  s.particle_spacing = stage.spacing;
+  double force = 0;
+  for (int d = 0; d < scene.dimension; ++d) force += scene.body_force[d] * scene.body_force[d];
+  force = std::sqrt(force);
+  if (stage.drive_axis >= 0) {
+    s.body_force = {0, 0, 0};
+    s.body_force[stage.drive_axis] = force;
+  }
+  if (stage.half_force)
+    for (double& f : s.body_force) f *= 0.5;
+  return s;
+}
+
+}  // namespace poresph

@@ -1,0 +1,384 @@
+#pragma once
+// One stage of a run (app/RunPlan.hpp): the simulation at the stage's
+// spacing and force, started from the lattice, the end of the stage before
+// it or a checkpoint, and the time loop that steps it and calls its
+// observers (diagnostics/Observer.hpp), each in its own file: the channel
+// profile probe, the health watch, the permeability probe with the
+// steady-state stop, the field files, the checkpoints and the progress line.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/Run.hpp"
+#include "app/RunPlan.hpp"
+#include "app/SceneCheck.hpp"
+#include "app/Simulation.hpp"
+#include "core/ExecutionSpaces.hpp"
+#include "diagnostics/ChannelProbe.hpp"
+#include "diagnostics/HealthWatch.hpp"
+#include "diagnostics/PermeabilityProbe.hpp"
+#include "io/Checkpoint.hpp"
+#include "io/Checkpoints.hpp"
+#include "io/FieldFrames.hpp"
+#include "io/OutputDirectory.hpp"
+#include "io/ParticlesCsv.hpp"
+#include "io/ProgressLine.hpp"
+
+namespace poresph {
+
+// What a finished stage measured, kept in every later checkpoint
+// (RunState::completed_stages) so that a restarted run reports all of them.
+struct StageRecord {
+  static constexpr int kSize = 15;
+  int level = 0, axis = -1;
+  bool half_force = false;
+  double spacing = 0;
+  long long steps = 0;
+  double simulated_time = 0, wall_seconds = 0;
+  bool warm_started = false, steady = false, has_permeability = false;
+  double relative_change = 0, remaining_change = 0;
+  double k[3] = {0, 0, 0};  // the driven column, k_i = nu <u_i> / |F|
+
+  void append_to(std::vector<double>& values) const {
+    const double v[kSize] = {double(level), double(axis), double(half_force), spacing, double(steps),
+                             simulated_time, wall_seconds, double(warm_started), double(steady),
+                             double(has_permeability), relative_change, remaining_change, k[0], k[1], k[2]};
+    values.insert(values.end(), v, v + kSize);
+  }
+  static StageRecord read(const double* v) {
+    StageRecord r;
+    r.level = int(v[0]), r.axis = int(v[1]), r.half_force = v[2] != 0, r.spacing = v[3];
+    r.steps = static_cast<long long>(v[4]), r.simulated_time = v[5], r.wall_seconds = v[6];
+    r.warm_started = v[7] != 0, r.steady = v[8] != 0, r.has_permeability = v[9] != 0;
+    r.relative_change = v[10], r.remaining_change = v[11];
+    r.k[0] = v[12], r.k[1] = v[13], r.k[2] = v[14];
+    return r;
+  }
+};
+
+// The fingerprint of a stage's physics, which its checkpoints carry.
+inline std::string stage_fingerprint(const SceneConfig& scene) {
+  const auto derived = derive_parameters(scene);
+  return physics_fingerprint(scene, derived.time_step, derived.sound_speed);
+}
+
+// What a stage needs from the run around it.
+struct StageContext {
+  const RunOptions& options;
+  const std::function<void()>& claim_output;  // before the first file is written
+  bool in_place = false;                      // a restart continuing in its own directory
+  double porosity = 1;
+};
+
+template <int Dim, class ExecSpace>
+class StageLoop {
+ public:
+  using Sim = Simulation<Dim, ExecSpace>;
+  using Clock = std::chrono::steady_clock;
+
+  // Runs stage `index` of `stages` of `scene`; warm_from: the stage before
+  // it, when this one starts from its end (released once it has served);
+  // resume: a checkpoint of this stage. Adds to `report` and `records`;
+  // returns the simulation at its end.
+  static std::unique_ptr<Sim> run(const SceneConfig& base, const std::vector<Stage>& stages, int index,
+                                  const StageContext& context, std::unique_ptr<Sim> warm_from,
+                                  const CheckpointInfo* resume, std::vector<StageRecord>& records, RunReport& report) {
+    StageLoop loop(base, stages, index, context, std::move(warm_from), resume, records, report);
+    loop.time_loop();
+    return std::move(loop.sim_);
+  }
+
+ private:
+  StageLoop(const SceneConfig& base, const std::vector<Stage>& stages, int index, const StageContext& context,
+            std::unique_ptr<Sim> warm_from, const CheckpointInfo* resume, std::vector<StageRecord>& records,
+            RunReport& report)
+      : stage_(stages[index]), index_(index), scene_(stage_scene(base, stage_)), context_(context),
+        options_(context.options), resume_(resume), records_(records), report_(report) {
+    const auto setup_start = Clock::now();
+    const Communicator world;
+    // A warm start keeps the boxes of the stage it starts from: its particles
+    // and the coarser ones they are interpolated from live on the same process.
+    std::vector<Box<Dim>> boxes;
+    if (resume) boxes = checkpoint_boxes<Dim>(*resume, world.size());
+    else if (warm_from) boxes = warm_from->decomposition().boxes();
+    sim_ = std::make_unique<Sim>(scene_, ExecSpace(), world, resume ? Sim::Start::Empty : Sim::Start::Lattice, boxes);
+    if (resume) {
+      load_checkpoint<Dim>(*sim_, options_.restart_file, *resume);
+      report.restarted_from_step = sim_->steps();
+    } else if (warm_from) {
+      warm_from->warm_start(*sim_, stage_.warm_scale);
+    }
+    // After a restart, whether the stage had started warm is in the checkpoint.
+    warm_started_ = resume ? resume->state.stage_warm != 0 : warm_from != nullptr;
+    warm_from.reset();  // its memory, before this stage's time loop
+    report.setup_seconds += std::chrono::duration<double>(Clock::now() - setup_start).count();
+    // A signal during set-up stops the run before it writes anything.
+    if (sim_->communicator().any(stop_signal_pending())) {
+      const int signal_number = stop_signal_received();
+      throw RunInterrupted("stopped by " + std::string(signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
+                               " during set-up, before the first step",
+                           signal_number);
+    }
+    context.claim_output();
+    fingerprint_ = stage_fingerprint(scene_);
+    make_observers();
+  }
+
+  void make_observers() {
+    Sim& sim = *sim_;
+    const auto& scene = scene_;
+    const RunState* restored = resume_ ? &resume_->state : nullptr;
+    const bool continuing = resume_ && context_.in_place;
+    const std::string& dir = options_.output_dir;
+    const bool root = sim.communicator().rank() == 0;
+    if (continuing && root) remove_other_frames(dir, stage_.suffix, restored->frame_steps);
+    const double dt = sim.time_step();
+
+    // Checks every few steps: often enough to follow the shortest window or
+    // spin-up time (at most L^2 / (8 nu), the Poiseuille bound of the
+    // velocity scale), rarely enough to cost nothing. Clamped as a double: a
+    // long time scale over a short step would overflow the conversion.
+    const double shortest_scale = scene.steady_window > 0 ? scene.steady_window
+                                                          : sim.derived().length_scale * sim.derived().length_scale /
+                                                                (8 * scene.kinematic_viscosity);
+    const long long check_interval =
+        static_cast<long long>(std::clamp(std::floor(shortest_scale / (20 * dt)), 1.0, 100.0));
+
+    health_ = std::make_unique<HealthWatch<Sim>>(sim, earlier_health(), check_interval);
+    probes_.push_back(health_.get());
+    channel_ = scene.walls == WallType::Channel && stage_.drive_axis <= 0;
+    if (channel_) {
+      channel_probe_ = std::make_unique<ChannelProbe<Sim>>(
+          sim, ChannelFlow{scene.cell_size[1], scene.kinematic_viscosity, scene.body_force[0],
+                           scene.lower_wall_velocity, scene.upper_wall_velocity},
+          scene.profile_sample_times, dir + "/profiles" + stage_.suffix + ".csv", continuing,
+          continuing ? static_cast<long long>(restored->profile_rows) : 0);
+      probes_.insert(probes_.begin(), channel_probe_.get());
+    }
+    axis_ = force_axis(scene);
+    double force = 0;
+    for (int d = 0; d < Dim; ++d) force += scene.body_force[d] * scene.body_force[d];
+    force = std::sqrt(force);
+    if (axis_ >= 0 && scene.kinematic_viscosity > 0) {
+      double largest_side = 0;
+      for (int d = 0; d < Dim; ++d) largest_side = std::max(largest_side, scene.cell_size[d]);
+      PermeabilityMonitor<Dim> monitor(axis_, scene.kinematic_viscosity, force, context_.porosity,
+                                       largest_side / sim.derived().sound_speed, scene.steady_window,
+                                       scene.steady_tolerance);
+      permeability_ = std::make_unique<PermeabilityProbe<Dim, Sim>>(
+          sim, std::move(monitor), axis_, check_interval, scene.steady_tolerance > 0,
+          dir + "/permeability_history" + stage_.suffix + ".csv", continuing,
+          continuing ? static_cast<long long>(restored->history_rows) : 0, restored);
+      probes_.push_back(permeability_.get());
+    }
+
+    fields_ = std::make_unique<FieldFrames<Dim, Sim>>(sim, dir, stage_.suffix, restored, continuing);
+    writers_.push_back(fields_.get());
+    checkpoints_ = std::make_unique<Checkpoints<Sim>>(scene.checkpoint_interval, scene.final_checkpoint,
+                                                      [this](bool rates_valid) { write_checkpoint_now(rates_valid); });
+    writers_.push_back(checkpoints_.get());
+    const bool show = root && (scene.progress == ProgressMode::Always ||
+                               (scene.progress == ProgressMode::Auto && options_.progress_on_terminal));
+    std::string label;
+    if (stage_.levels > 1) label += "[level " + std::to_string(stage_.level + 1) + "/" + std::to_string(stage_.levels) + "] ";
+    if (stage_.drive_axis >= 0) label += std::string("[F along ") + "xyz"[stage_.drive_axis] + "] ";
+    if (stage_.half_force) label += "[F / 2] ";
+    last_step_ = poresph::last_step(scene.end_time, dt, scene.max_steps);
+    progress_ = std::make_unique<ProgressObserver<Sim>>(show, label, last_step_, [this]() { return progress_status(); });
+    writers_.push_back(progress_.get());
+  }
+
+  HealthRecord earlier_health() const {
+    return {report_.max_density_variation, report_.max_density_drift, report_.particles_inside_grains,
+            report_.max_grain_penetration, report_.grain_surface_corrections, report_.max_corrected_depth};
+  }
+
+  ProgressStatus progress_status() const {
+    ProgressStatus status;
+    if (permeability_ && permeability_->monitor().measured()) {
+      const auto& monitor = permeability_->monitor();
+      status.has_permeability = true;
+      status.permeability = monitor.permeability(axis_);
+      status.remaining_change = monitor.detector().remaining_change();
+      if (permeability_->stops_when_steady()) status.steady_time = monitor.detector().predicted_steady_time();
+    }
+    return status;
+  }
+
+  void write_checkpoint_now(bool rates_valid) {
+    RunState state;
+    state.drive_axis = stage_.drive_axis;
+    state.stage = index_;
+    state.stage_warm = warm_started_;
+    for (const auto& r : records_) r.append_to(state.completed_stages);
+    for (auto* o : probes_) o->save(state);
+    for (auto* o : writers_) o->save(state);
+    write_checkpoint<Dim>(*sim_, options_.output_dir + "/checkpoint.h5", state, options_.parameters_xml, fingerprint_,
+                          rates_valid);
+  }
+
+  void time_loop() {
+    Sim& sim = *sim_;
+    // A signal is seen by one process; all stop together at the next agreement.
+    constexpr long long kSignalCheckInterval = 10;
+    const long long first_step = sim.steps();
+    const auto loop_start = Clock::now();
+    auto seconds = [&]() { return std::chrono::duration<double>(Clock::now() - loop_start).count(); };
+    const std::string checkpoint_path = options_.output_dir + "/checkpoint.h5";
+    try {
+      while (sim.steps() < last_step_) {
+        if (sim.steps() + 1 == options_.inject_nan_at_step) sim.poison_next_step();
+        sim.step();
+        bool stop = false;
+        for (auto* o : probes_) {
+          o->after_step(sim);
+          stop = stop || o->wants_stop();
+        }
+        if (stop) break;  // steady: the end writes what is left
+        for (auto* o : writers_) o->after_step(sim);
+        // Also at the last step, so that a signal in its final few steps is not lost.
+        const bool test_interrupt = index_ == options_.interrupt_stage && sim.steps() == options_.interrupt_step;
+        if (test_interrupt || ((sim.steps() % kSignalCheckInterval == 0 || sim.steps() == last_step_) &&
+                               sim.communicator().any(stop_signal_pending()))) {
+          const int signal_number = test_interrupt ? SIGTERM : stop_signal_received();
+          progress_->finish();
+          write_checkpoint_now(true);
+          record("signal", seconds(), first_step);
+          throw RunInterrupted("stopped by " + std::string(signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
+                                   " at step " + std::to_string(sim.steps()) + ", t = " + std::to_string(sim.time()) +
+                                   " s; the state is in " + checkpoint_path,
+                               signal_number);
+        }
+      }
+    } catch (const SimulationFailure& failure) {
+      progress_->finish();
+      sim.rewind_failed_step();
+      std::string saved = "; the last good state (step " + std::to_string(sim.steps()) + ") is in " + checkpoint_path;
+      try {
+        write_checkpoint_now(false);
+      } catch (const std::exception& error) {  // the failure is still the news; the lost checkpoint is said too
+        saved = "; the last good state (step " + std::to_string(sim.steps()) + ") could not be saved: " + error.what();
+      }
+      record("failure", seconds(), first_step);
+      report_.failure = std::string(failure.what()) + saved;
+      throw SimulationFailure(report_.failure, failure.step, failure.time);
+    } catch (const RunInterrupted&) {
+      throw;
+    } catch (const std::exception& error) {  // a file that could not be written: summary.json says so
+      progress_->finish();
+      record("error", seconds(), first_step);
+      report_.failure = error.what();
+      throw;
+    }
+    const double loop_seconds = seconds();
+    progress_->finish();
+    for (auto* o : probes_) o->at_end(sim);
+    const bool steady = permeability_ && permeability_->wants_stop();
+    const long long steps_to_end = steps_to_end_time(scene_.end_time, sim.time_step());
+    // Recorded before the last files are written: if one of them fails, summary.json still describes the run.
+    record(steady ? "steady_state" : sim.steps() >= steps_to_end ? "end_time" : "max_steps", loop_seconds, first_step);
+    if (scene_.write_final_particles)
+      write_particles_csv<Dim>(sim, options_.output_dir + "/particles" + stage_.suffix + ".csv");
+    for (auto* o : writers_) o->at_end(sim);
+  }
+
+  // What summary.json says of this stage, however it ends: at the end, at a
+  // steady k, by a signal, a failure or an error (k as of the last check).
+  void record(const std::string& stopped_by, double loop_seconds, long long first_step) {
+    const Sim& sim = *sim_;
+    const auto& derived = sim.derived();
+    RunReport& report = report_;
+    report.stopped_by = stopped_by;
+    report.dimension = Dim;
+    report.fluid_particles = sim.fluid_particles();
+    report.boundary_particles = sim.boundary_particles();
+    report.steps += sim.steps();
+    report.timed_steps += sim.steps() - first_step;
+    report.simulated_time += sim.time();
+    report.time_step = derived.time_step;
+    report.particle_spacing = scene_.particle_spacing;
+    report.smoothing_length = derived.smoothing_length;
+    report.sound_speed = derived.sound_speed;
+    report.wall_seconds += loop_seconds;  // the time loop only
+    report.ranks = sim.communicator().size();
+    report.threads = ExecSpace::concurrency();
+    report.backend = backend_name<ExecSpace>();
+    report.neighbour_rebuilds += sim.neighbour_rebuilds();
+    report.neighbours_per_particle = sim.neighbours_per_particle();
+    const HealthRecord health = health_->record();
+    report.max_density_variation = health.max_density_variation;
+    report.max_density_drift = health.max_density_drift;
+    report.particles_inside_grains = health.particles_inside_grains;
+    report.max_grain_penetration = health.max_grain_penetration;
+    report.grain_surface_corrections = health.grain_surface_corrections;
+    report.max_corrected_depth = health.max_corrected_depth;
+    if (channel_ && stage_.finest()) {
+      report.channel = true;
+      report.profile_error = channel_probe_->largest_error();
+      report.profile_samples = channel_probe_->samples();
+    }
+    StageRecord r;
+    r.level = stage_.level, r.axis = axis_, r.half_force = stage_.half_force, r.spacing = stage_.spacing;
+    r.steps = sim.steps(), r.simulated_time = sim.time();
+    // The time loop of this process (after a restart: since the restart).
+    r.wall_seconds = loop_seconds;
+    r.warm_started = warm_started_;
+    if (permeability_ && permeability_->monitor().measured()) {
+      const auto& monitor = permeability_->monitor();
+      r.has_permeability = true;
+      for (int i = 0; i < Dim; ++i) r.k[i] = monitor.permeability(i);
+      r.steady = monitor.steady();
+      r.relative_change = monitor.detector().relative_change();
+      r.remaining_change = monitor.detector().remaining_change();
+      if (stage_.finest() && !stage_.half_force) {
+        const bool first = !report.has_permeability;
+        report.has_permeability = true;
+        report.driven[axis_] = true;
+        for (int i = 0; i < Dim; ++i) {
+          report.permeability[i][axis_] = r.k[i];
+          if (first) report.superficial_velocity[i] = monitor.superficial_velocity()[i];
+        }
+      }
+    }
+    records_.push_back(r);
+  }
+
+  // The one axis a body force points along, or -1 if it has several components.
+  static int force_axis(const SceneConfig& scene) {
+    int axis = -1;
+    for (int d = 0; d < scene.dimension; ++d) {
+      if (scene.body_force[d] == 0) continue;
+      if (axis >= 0) return -1;
+      axis = d;
+    }
+    return axis;
+  }
+
+  Stage stage_;
+  int index_;
+  SceneConfig scene_;
+  const StageContext& context_;
+  const RunOptions& options_;
+  const CheckpointInfo* resume_;
+  std::vector<StageRecord>& records_;
+  RunReport& report_;
+  std::unique_ptr<Sim> sim_;
+  std::string fingerprint_;
+  bool warm_started_ = false, channel_ = false;
+  int axis_ = -1;
+  long long last_step_ = 0;
+  std::unique_ptr<HealthWatch<Sim>> health_;
+  std::unique_ptr<ChannelProbe<Sim>> channel_probe_;
+  std::unique_ptr<PermeabilityProbe<Dim, Sim>> permeability_;
+  std::unique_ptr<FieldFrames<Dim, Sim>> fields_;
+  std::unique_ptr<Checkpoints<Sim>> checkpoints_;
+  std::unique_ptr<ProgressObserver<Sim>> progress_;
+  std::vector<Observer<Sim>*> probes_, writers_;  // measure, then write: the steady stop comes between
+};
+
+}  // namespace poresph

@@ -1,0 +1,70 @@
+#pragma once
+// The permeability of a run driven along one axis, sampled every
+// check_interval steps and at the end (diagnostics/PermeabilityMonitor.hpp),
+// written to permeability_history*.csv (rank 0), and the steady-state stop.
+#include <sstream>
+#include <string>
+
+#include "diagnostics/Observer.hpp"
+#include "diagnostics/PermeabilityMonitor.hpp"
+#include "io/HistoryFile.hpp"
+
+namespace poresph {
+
+template <int Dim, class Sim>
+class PermeabilityProbe : public Observer<Sim> {
+ public:
+  // csv_path: the history file; continuing: a restart in the run's own
+  // directory (keeps the rows the checkpoint counts); restored: the
+  // steady-state detector's samples from the checkpoint (or none).
+  PermeabilityProbe(const Sim& sim, PermeabilityMonitor<Dim> monitor, int axis, long long check_interval,
+                    bool stop_when_steady, const std::string& csv_path, bool continuing, long long rows_before,
+                    const RunState* restored)
+      : monitor_(std::move(monitor)), interval_(check_interval), stop_when_steady_(stop_when_steady),
+        rows_(rows_before), scheduled_rows_(rows_before) {
+    if (restored)
+      monitor_.detector().restore(restored->steady_first_time, restored->steady_times, restored->steady_values);
+    if (sim.communicator().rank() == 0) {
+      std::ostringstream header;
+      PermeabilityMonitor<Dim>::write_header(header, axis);
+      history_.open(csv_path, header.str(), continuing, rows_before);
+      history_.file().precision(10);
+    }
+  }
+
+  void after_step(Sim& sim) override {
+    if (sim.steps() % interval_ != 0) return;
+    sample(sim);
+    scheduled_rows_ = rows_;
+  }
+  bool wants_stop() const override { return stop_when_steady_ && monitor_.steady(); }
+  void at_end(Sim& sim) override { sample(sim); }
+  void save(RunState& state) const override {
+    monitor_.detector().save(state.steady_times, state.steady_values);
+    state.steady_first_time = monitor_.detector().first_time();
+    state.history_rows = static_cast<double>(scheduled_rows_);
+  }
+
+  const PermeabilityMonitor<Dim>& monitor() const { return monitor_; }
+  bool stops_when_steady() const { return stop_when_steady_; }
+
+ private:
+  // A check at a step already checked (the end of a run on a checking step)
+  // samples k again but writes no second row.
+  void sample(Sim& sim) {
+    const bool new_row = sim.steps() != last_check_;
+    monitor_.sample(sim.steps(), sim.time(), sim.superficial_velocity(), new_row ? history_.stream() : nullptr);
+    history_.check();
+    rows_ += new_row;
+    last_check_ = sim.steps();
+  }
+
+  PermeabilityMonitor<Dim> monitor_;
+  long long interval_;
+  bool stop_when_steady_;
+  HistoryFile history_;
+  long long rows_, scheduled_rows_;  // all rows, and those of the scheduled checks (what a checkpoint counts)
+  long long last_check_ = -1;
+};
+
+}  // namespace poresph

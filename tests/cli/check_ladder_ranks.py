@@ -1,0 +1,34 @@
+#!/usr/bin/python3
+"""The resolution ladder on 1, 2 and 4 processes (issue 17): the square
+array c = 0.5 with three levels ending at dx = 0.01 L. Every level's k and
+step count must agree with one process's: to 1e-10 (sums in another order)
+and exactly.
+
+    check_ladder_ranks.py POREPSH_BINARY INPUT_DIR WORK_DIR
+"""
+import json
+import os
+import subprocess
+import sys
+
+poresph, inputs, work = sys.argv[1:4]
+env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1", OMP_NUM_THREADS="1")
+levels = {}
+for ranks in (1, 2, 4):
+    out = os.path.join(work, f"ladder-{ranks}")
+    subprocess.run(["mpiexec", "-n", str(ranks), poresph, os.path.join(inputs, "square_array", "square_array_c50.xml"),
+                    "--set", "Convergence/Levels=3", "--set", "Run/Progress=never", "--output", out, "--overwrite"],
+                   check=True, env=env, stdout=subprocess.DEVNULL)
+    with open(os.path.join(out, "summary.json")) as f:
+        levels[ranks] = json.load(f)["convergence"]
+failures = 0
+for ranks in (2, 4):
+    for l, (one, many) in enumerate(zip(levels[1], levels[ranks])):
+        k1, kn = one["permeability"]["kxx"], many["permeability"]["kxx"]
+        ok = abs(kn / k1 - 1) < 1e-10 and one["steps"] == many["steps"]
+        failures += not ok
+        print(f"{ranks} ranks, level {l}: kxx {kn:.15g} against {k1:.15g}, steps {many['steps']} against "
+              f"{one['steps']}: {'ok' if ok else 'DIFFERENT'}")
+print("ladder ranks ok" if failures == 0 else f"{failures} differ")
+sys.exit(1 if failures else 0)
