@@ -25,6 +25,7 @@ packages=(
   libtrilinos-thyra-dev libtrilinos-epetra-dev libtrilinos-epetraext-dev
   libtrilinos-triutils-dev libtrilinos-rtop-dev libtrilinos-kokkos-kernels-dev
   libptscotch-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libgtest-dev nlohmann-json3-dev
+  libpng-dev libtiff-dev
   python3 python3-numpy python3-matplotlib python3-h5py
 )
 

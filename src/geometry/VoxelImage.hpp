@@ -1,0 +1,74 @@
+#pragma once
+// A segmented image as PoreSPH holds it: one value a voxel, whatever the
+// file it came from (io/ImageReader.hpp). Voxel (i, j, k) covers
+// [i, i+1) x [j, j+1) x [k, k+1) voxel sizes from the cell's origin, so y
+// grows upwards and a 2D image is one layer (nz = 1).
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace poresph {
+
+struct VoxelImage {
+  int dimension = 2;
+  std::array<long long, 3> shape{{0, 0, 1}};  // nx, ny, nz; nz = 1 in 2D
+  // Bits a value was stored with (8 or 16; 1, 2 and 4-bit PNGs are read as
+  // 8): a solid value beyond 2^bits - 1 names no voxel of this image.
+  int bits = 8;
+  std::vector<std::uint16_t> values;  // x fastest, then y, then z
+
+  long long count() const { return shape[0] * shape[1] * shape[2]; }
+  std::size_t index(long long i, long long j, long long k = 0) const {
+    return static_cast<std::size_t>(i + shape[0] * (j + shape[1] * k));
+  }
+  std::uint16_t at(long long i, long long j, long long k = 0) const { return values[index(i, j, k)]; }
+};
+
+// "120 x 80" or "64 x 64 x 32": for messages.
+inline std::string shape_text(const VoxelImage& image) {
+  std::string text;
+  for (int d = 0; d < image.dimension; ++d) text += (d ? " x " : "") + std::to_string(image.shape[d]);
+  return text;
+}
+
+// The image followed by its mirror image along `axis`: twice as long there,
+// and periodic along it whatever the sample's two faces look like (voxel
+// n + m is voxel n - 1 - m), as LBM codes make a non-periodic sample
+// periodic along the driven axis.
+inline VoxelImage mirrored(const VoxelImage& image, int axis) {
+  if (axis < 0 || axis >= image.dimension)
+    throw std::invalid_argument("cannot mirror a " + std::to_string(image.dimension) + "D image along axis " +
+                                std::to_string(axis));
+  VoxelImage out = image;
+  out.shape[axis] *= 2;
+  out.values.assign(static_cast<std::size_t>(out.count()), 0);
+  const long long n = image.shape[axis];
+  for (long long k = 0; k < out.shape[2]; ++k)
+    for (long long j = 0; j < out.shape[1]; ++j)
+      for (long long i = 0; i < out.shape[0]; ++i) {
+        std::array<long long, 3> from{{i, j, k}};
+        if (from[axis] >= n) from[axis] = 2 * n - 1 - from[axis];
+        out.values[out.index(i, j, k)] = image.at(from[0], from[1], from[2]);
+      }
+  return out;
+}
+
+// Solid and pore voxels, the solid ones being those whose value is listed.
+struct VoxelCounts {
+  long long solid = 0, pore = 0;
+};
+inline VoxelCounts count_voxels(const VoxelImage& image, const std::vector<int>& solid_values) {
+  // A table over every 16-bit value: one look-up a voxel, however many values are solid.
+  std::vector<char> solid(1 << 16, 0);
+  for (int v : solid_values)
+    if (v >= 0 && v < (1 << 16)) solid[v] = 1;
+  VoxelCounts counts;
+  for (std::uint16_t v : image.values) counts.solid += solid[v];
+  counts.pore = image.count() - counts.solid;
+  return counts;
+}
+
+}  // namespace poresph

@@ -1,0 +1,434 @@
+// Segmented images: each format read with the axes io/ImageReader.hpp states,
+// every bad image refused with its reason. The files are written here with
+// libpng and libtiff themselves, so that a reader and a writer agree on what
+// a file is only through the format.
+#include <gtest/gtest.h>
+#include <png.h>
+#include <tiffio.h>
+
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "geometry/VoxelImage.hpp"
+#include "io/ImageReader.hpp"
+
+namespace poresph {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string temp_path(const std::string& name) {
+  return (fs::temp_directory_path() / ("poresph-image-" + name)).string();
+}
+
+// Rows top first, as both formats store them; values one per sample.
+struct Picture {
+  int width = 0, height = 0;
+  std::vector<unsigned> values;  // width * height * samples, row-major from the top row
+};
+
+// libpng's writer longjmps here on an error; no object with a destructor lives in this frame.
+bool png_write_all(png_structp png, png_infop info, std::FILE* file, int width, int height, int depth, int colour,
+                   bool interlaced, png_bytepp rows) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_init_io(png, file);
+  png_set_IHDR(png, info, width, height, depth, colour, interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  if (colour == PNG_COLOR_TYPE_PALETTE) {
+    png_color palette[2] = {{0, 0, 0}, {255, 0, 0}};
+    png_set_PLTE(png, info, palette, 2);
+  }
+  png_write_info(png, info);
+  png_write_image(png, rows);
+  png_write_end(png, nullptr);
+  return true;
+}
+
+// A PNG of `depth` bits a sample (packed as the format packs 1, 2 and 4 bits, big-endian at 16).
+void write_png(const std::string& path, const Picture& picture, int depth, int colour = PNG_COLOR_TYPE_GRAY,
+               bool interlaced = false) {
+  const int samples = colour == PNG_COLOR_TYPE_RGB ? 3 : colour == PNG_COLOR_TYPE_GRAY_ALPHA ? 2 : 1;
+  const size_t row_bytes = (static_cast<size_t>(picture.width) * samples * depth + 7) / 8;
+  std::vector<png_byte> bytes(row_bytes * picture.height, 0);
+  for (int r = 0; r < picture.height; ++r)
+    for (int s = 0; s < picture.width * samples; ++s) {
+      const unsigned v = picture.values[static_cast<size_t>(r) * picture.width * samples + s];
+      png_byte* row = bytes.data() + r * row_bytes;
+      if (depth == 16) {
+        row[2 * s] = static_cast<png_byte>(v >> 8);
+        row[2 * s + 1] = static_cast<png_byte>(v & 0xff);
+      } else if (depth == 8) {
+        row[s] = static_cast<png_byte>(v);
+      } else {  // the first pixel in the most significant bits
+        const int per_byte = 8 / depth;
+        row[s / per_byte] |= static_cast<png_byte>(v << (8 - depth * (s % per_byte + 1)));
+      }
+    }
+  std::vector<png_bytep> rows(picture.height);
+  for (int r = 0; r < picture.height; ++r) rows[r] = bytes.data() + r * row_bytes;
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  ASSERT_NE(file, nullptr) << path;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  const bool written =
+      png_write_all(png, info, file, picture.width, picture.height, depth, colour, interlaced, rows.data());
+  png_destroy_write_struct(&png, &info);
+  std::fclose(file);
+  ASSERT_TRUE(written) << path;
+}
+
+struct TiffPage {
+  Picture picture;
+  int bits = 8, samples = 1;
+  int photometric = PHOTOMETRIC_MINISBLACK, format = SAMPLEFORMAT_UINT;
+  int tile = 0;  // tile side (a multiple of 16), 0: strips
+  int compression = COMPRESSION_NONE;
+};
+
+// One page a TiffPage, in the host's byte order (libtiff marks it in the header).
+void write_tiff(const std::string& path, const std::vector<TiffPage>& pages) {
+  TIFF* tiff = TIFFOpen(path.c_str(), "w");
+  ASSERT_NE(tiff, nullptr) << path;
+  for (const auto& page : pages) {
+    const int w = page.picture.width, h = page.picture.height, n = page.samples, bytes_per = page.bits / 8;
+    TIFFSetField(tiff, TIFFTAG_IMAGEWIDTH, w);
+    TIFFSetField(tiff, TIFFTAG_IMAGELENGTH, h);
+    TIFFSetField(tiff, TIFFTAG_BITSPERSAMPLE, page.bits);
+    TIFFSetField(tiff, TIFFTAG_SAMPLESPERPIXEL, n);
+    TIFFSetField(tiff, TIFFTAG_PHOTOMETRIC, page.photometric);
+    TIFFSetField(tiff, TIFFTAG_SAMPLEFORMAT, page.format);
+    TIFFSetField(tiff, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(tiff, TIFFTAG_COMPRESSION, page.compression);
+    if (pages.size() > 1) {
+      TIFFSetField(tiff, TIFFTAG_SUBFILETYPE, FILETYPE_PAGE);
+    }
+    auto sample_bytes = [&](int r, int x0, int count, unsigned char* out) {
+      for (int s = 0; s < count * n; ++s) {
+        const unsigned v = page.picture.values[(static_cast<size_t>(r) * w + x0) * n + s];
+        if (page.format == SAMPLEFORMAT_IEEEFP) {
+          const float f = static_cast<float>(v);
+          std::memcpy(out + 4 * s, &f, 4);
+        } else if (bytes_per == 2) {
+          const std::uint16_t u = static_cast<std::uint16_t>(v);
+          std::memcpy(out + 2 * s, &u, 2);
+        } else {
+          out[s] = static_cast<unsigned char>(v);
+        }
+      }
+    };
+    if (page.tile > 0) {
+      TIFFSetField(tiff, TIFFTAG_TILEWIDTH, page.tile);
+      TIFFSetField(tiff, TIFFTAG_TILELENGTH, page.tile);
+      std::vector<unsigned char> tile(static_cast<size_t>(page.tile) * page.tile * n * bytes_per);
+      for (int y0 = 0; y0 < h; y0 += page.tile)
+        for (int x0 = 0; x0 < w; x0 += page.tile) {
+          std::fill(tile.begin(), tile.end(), 0);
+          for (int r = y0; r < std::min(h, y0 + page.tile); ++r)
+            sample_bytes(r, x0, std::min(page.tile, w - x0),
+                         tile.data() + static_cast<size_t>(r - y0) * page.tile * n * bytes_per);
+          ASSERT_GE(TIFFWriteTile(tiff, tile.data(), x0, y0, 0, 0), 0);
+        }
+    } else {
+      TIFFSetField(tiff, TIFFTAG_ROWSPERSTRIP, 2);  // several strips a page
+      std::vector<unsigned char> row(static_cast<size_t>(w) * n * bytes_per);
+      for (int r = 0; r < h; ++r) {
+        sample_bytes(r, 0, w, row.data());
+        ASSERT_EQ(TIFFWriteScanline(tiff, row.data(), r, 0), 1);
+      }
+    }
+    ASSERT_TRUE(TIFFWriteDirectory(tiff));
+  }
+  TIFFClose(tiff);
+}
+
+void write_bytes(const std::string& path, const std::vector<unsigned char>& bytes) {
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
+                                              static_cast<std::streamsize>(bytes.size()));
+}
+
+// The file cut to `keep` bytes.
+void truncate_to(const std::string& path, std::uintmax_t keep) {
+  ASSERT_GT(fs::file_size(path), keep);
+  fs::resize_file(path, keep);
+}
+
+template <class Error = std::invalid_argument, class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+#define EXPECT_MENTIONS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
+
+// Three wide, two high, every value different: a flip or a transposition
+// of either axis moves some value.
+Picture asymmetric(unsigned scale = 1) {
+  return {3, 2, {1 * scale, 2 * scale, 3 * scale, 4 * scale, 5 * scale, 6 * scale}};
+}
+
+// The top row of the picture (1 2 3) is at y = 1, the largest; x to the right.
+void expect_asymmetric_axes(const VoxelImage& image, unsigned scale = 1) {
+  ASSERT_EQ(image.dimension, 2);
+  ASSERT_EQ(image.shape[0], 3);
+  ASSERT_EQ(image.shape[1], 2);
+  ASSERT_EQ(image.shape[2], 1);
+  ASSERT_EQ(image.values.size(), 6u);
+  EXPECT_EQ(image.at(0, 1), 1 * scale);
+  EXPECT_EQ(image.at(1, 1), 2 * scale);
+  EXPECT_EQ(image.at(2, 1), 3 * scale);
+  EXPECT_EQ(image.at(0, 0), 4 * scale);
+  EXPECT_EQ(image.at(2, 0), 6 * scale);
+}
+
+TEST(ImageReader, PngRowsAreReadTopRowAtTheLargestY) {
+  const auto path = temp_path("axes.png");
+  write_png(path, asymmetric(), 8);
+  const auto image = read_png(path);
+  expect_asymmetric_axes(image);
+  EXPECT_EQ(image.bits, 8);
+}
+
+TEST(ImageReader, Png16BitKeepsEveryBit) {
+  // 258 = 0x0102 and 513 = 0x0201: a byte-order slip swaps them.
+  const auto path = temp_path("16.png");
+  write_png(path, {3, 2, {258, 513, 65535, 0, 1, 40000}}, 16);
+  const auto image = read_png(path);
+  EXPECT_EQ(image.bits, 16);
+  EXPECT_EQ(image.at(0, 1), 258);
+  EXPECT_EQ(image.at(1, 1), 513);
+  EXPECT_EQ(image.at(2, 1), 65535);
+  EXPECT_EQ(image.at(2, 0), 40000);
+  // Interlaced (Adam7) the same pixels arrive in seven passes.
+  const auto interlaced = temp_path("16-adam7.png");
+  write_png(interlaced, {3, 2, {258, 513, 65535, 0, 1, 40000}}, 16, PNG_COLOR_TYPE_GRAY, true);
+  EXPECT_EQ(read_png(interlaced).values, image.values);
+}
+
+TEST(ImageReader, PngOfFewBitsKeepsItsValues) {
+  // A binary segmentation saved as 1 bit: values 0 and 1, not 0 and 255.
+  Picture picture{10, 3, {}};
+  for (int k = 0; k < 30; ++k) picture.values.push_back(k % 3 == 0 ? 1 : 0);
+  const auto path = temp_path("1bit.png");
+  write_png(path, picture, 1);
+  const auto image = read_png(path);
+  EXPECT_EQ(image.bits, 8);
+  for (int r = 0; r < 3; ++r)
+    for (int i = 0; i < 10; ++i) EXPECT_EQ(image.at(i, 2 - r), picture.values[r * 10 + i]) << i << " " << r;
+}
+
+TEST(ImageReader, ColourPngsAreRefusedSayingWhy) {
+  const auto rgb = temp_path("rgb.png");
+  write_png(rgb, {1, 1, {10, 20, 30}}, 8, PNG_COLOR_TYPE_RGB);
+  const auto rgb_error = error_of([&] { read_png(rgb); });
+  EXPECT_MENTIONS(rgb_error, "colour");
+  EXPECT_MENTIONS(rgb_error, "greyscale");
+  EXPECT_MENTIONS(rgb_error, rgb);
+  const auto palette = temp_path("palette.png");
+  write_png(palette, {2, 1, {0, 1}}, 8, PNG_COLOR_TYPE_PALETTE);
+  EXPECT_MENTIONS(error_of([&] { read_png(palette); }), "palette");
+  const auto alpha = temp_path("alpha.png");
+  write_png(alpha, {1, 1, {10, 255}}, 8, PNG_COLOR_TYPE_GRAY_ALPHA);
+  EXPECT_MENTIONS(error_of([&] { read_png(alpha); }), "alpha");
+}
+
+TEST(ImageReader, BrokenPngsAreRefused) {
+  Picture big{64, 64, std::vector<unsigned>(64 * 64)};
+  for (size_t k = 0; k < big.values.size(); ++k) big.values[k] = (k * 7919) % 251;  // compresses badly
+  const auto path = temp_path("truncated.png");
+  write_png(path, big, 8);
+  truncate_to(path, fs::file_size(path) / 2);
+  EXPECT_MENTIONS(error_of([&] { read_png(path); }), "truncated");
+  // Cut inside the header: no pixel was reached.
+  write_png(path, big, 8);
+  truncate_to(path, 20);
+  EXPECT_MENTIONS(error_of([&] { read_png(path); }), "unreadable");
+  const auto text = temp_path("text.png");
+  std::ofstream(text) << "not a picture\n";
+  EXPECT_MENTIONS(error_of([&] { read_png(text); }), "not a PNG");
+  EXPECT_MENTIONS(error_of([&] { read_png(temp_path("missing.png")); }), "no such file");
+  EXPECT_MENTIONS(error_of([&] { read_png(fs::temp_directory_path().string()); }), "directory");
+}
+
+TEST(ImageReader, TiffPageHasThePngAxes) {
+  const auto path = temp_path("axes.tif");
+  TiffPage page;
+  page.picture = asymmetric();
+  write_tiff(path, {page});
+  const auto image = read_tiff(path);
+  expect_asymmetric_axes(image);
+  EXPECT_EQ(image.bits, 8);
+}
+
+TEST(ImageReader, TiffStackIsAVolumeWithPagesAlongZ) {
+  // Page p holds 1000 p + 10 r + i at row r (from the top), column i, in 16 bits.
+  const int nx = 5, ny = 3, nz = 4;
+  std::vector<TiffPage> pages(nz);
+  for (int p = 0; p < nz; ++p) {
+    pages[p].bits = 16;
+    pages[p].picture = {nx, ny, {}};
+    for (int r = 0; r < ny; ++r)
+      for (int i = 0; i < nx; ++i) pages[p].picture.values.push_back(1000 * p + 10 * r + i);
+  }
+  pages[1].compression = COMPRESSION_LZW;  // a page compressed, as Fiji may write it
+  const auto path = temp_path("stack.tiff");
+  write_tiff(path, pages);
+  const auto image = read_tiff(path);
+  ASSERT_EQ(image.dimension, 3);
+  ASSERT_EQ(image.shape[0], nx);
+  ASSERT_EQ(image.shape[1], ny);
+  ASSERT_EQ(image.shape[2], nz);
+  EXPECT_EQ(image.bits, 16);
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        ASSERT_EQ(image.at(i, j, k), 1000 * k + 10 * (ny - 1 - j) + i) << i << " " << j << " " << k;
+}
+
+TEST(ImageReader, TiledTiffIsReadWholeAcrossPartialTiles) {
+  // 20 x 18 in tiles of 16: three of the four tiles reach past the image.
+  TiffPage page;
+  page.tile = 16;
+  page.picture = {20, 18, {}};
+  for (int r = 0; r < 18; ++r)
+    for (int i = 0; i < 20; ++i) page.picture.values.push_back(r * 20 + i < 256 ? r * 20 + i : 255);
+  const auto path = temp_path("tiled.tif");
+  write_tiff(path, {page});
+  const auto image = read_tiff(path);
+  ASSERT_EQ(image.shape[0], 20);
+  ASSERT_EQ(image.shape[1], 18);
+  for (int r = 0; r < 18; ++r)
+    for (int i = 0; i < 20; ++i) ASSERT_EQ(image.at(i, 17 - r), page.picture.values[r * 20 + i]) << i << " " << r;
+}
+
+TEST(ImageReader, BadTiffsAreRefusedSayingWhy) {
+  TiffPage rgb;
+  rgb.samples = 3;
+  rgb.photometric = PHOTOMETRIC_RGB;
+  rgb.picture = {1, 1, {10, 20, 30}};
+  const auto colour = temp_path("rgb.tif");
+  write_tiff(colour, {rgb});
+  EXPECT_MENTIONS(error_of([&] { read_tiff(colour); }), "colour");
+
+  TiffPage real;
+  real.bits = 32;
+  real.format = SAMPLEFORMAT_IEEEFP;
+  real.picture = {2, 1, {0, 1}};
+  const auto floating = temp_path("float.tif");
+  write_tiff(floating, {real});
+  EXPECT_MENTIONS(error_of([&] { read_tiff(floating); }), "floating-point");
+
+  TiffPage small, large;
+  small.picture = {2, 2, {0, 1, 2, 3}};
+  large.picture = {3, 2, {0, 1, 2, 3, 4, 5}};
+  const auto mixed = temp_path("mixed.tif");
+  write_tiff(mixed, {small, large});
+  const auto mixed_error = error_of([&] { read_tiff(mixed); });
+  EXPECT_MENTIONS(mixed_error, "page 2 is 3 x 2");
+
+  TiffPage big;
+  big.picture = {64, 64, std::vector<unsigned>(64 * 64, 7)};
+  const auto cut = temp_path("truncated.tif");
+  write_tiff(cut, {big, big});
+  truncate_to(cut, fs::file_size(cut) / 2);  // within page 1's directory, written after its pixels
+  EXPECT_MENTIONS(error_of([&] { read_tiff(cut); }), "unreadable");
+  // Page 1 whole, page 2 cut: its directory is beyond the end.
+  write_tiff(cut, {big, big});
+  truncate_to(cut, fs::file_size(cut) * 3 / 4);
+  EXPECT_MENTIONS(error_of([&] { read_tiff(cut); }), "page 2 is unreadable");
+  const auto text = temp_path("text.tif");
+  std::ofstream(text) << "not a picture\n";
+  EXPECT_MENTIONS(error_of([&] { read_tiff(text); }), "unreadable TIFF");
+  EXPECT_MENTIONS(error_of([&] { read_tiff(temp_path("missing.tif")); }), "no such file");
+}
+
+TEST(ImageReader, RawIsXFastestThenYThenZWithoutAFlip) {
+  const auto path8 = temp_path("axes.raw");
+  write_bytes(path8, {1, 2, 3, 4, 5, 6});
+  const auto flat = read_raw(path8, {{3, 2}, 8});
+  ASSERT_EQ(flat.dimension, 2);
+  EXPECT_EQ(flat.at(0, 0), 1);
+  EXPECT_EQ(flat.at(2, 0), 3);
+  EXPECT_EQ(flat.at(0, 1), 4);
+  EXPECT_EQ(flat.at(2, 1), 6);
+  // 2 x 2 x 2 of little-endian uint16: value n + 256 (n + 1) at the n-th voxel.
+  std::vector<unsigned char> bytes;
+  for (int n = 0; n < 8; ++n)
+    bytes.insert(bytes.end(), {static_cast<unsigned char>(n), static_cast<unsigned char>(n + 1)});
+  const auto path16 = temp_path("volume.raw");
+  write_bytes(path16, bytes);
+  const auto volume = read_raw(path16, {{2, 2, 2}, 16});
+  ASSERT_EQ(volume.dimension, 3);
+  EXPECT_EQ(volume.bits, 16);
+  EXPECT_EQ(volume.at(0, 0, 0), 256);
+  EXPECT_EQ(volume.at(1, 0, 0), 1 + 2 * 256);
+  EXPECT_EQ(volume.at(0, 1, 0), 2 + 3 * 256);
+  EXPECT_EQ(volume.at(0, 0, 1), 4 + 5 * 256);
+  EXPECT_EQ(volume.at(1, 1, 1), 7 + 8 * 256);
+}
+
+TEST(ImageReader, RawOfAnotherSizeThanItsShapeIsRefused) {
+  const auto path = temp_path("short.raw");
+  write_bytes(path, {1, 2, 3, 4, 5});
+  const auto shorter = error_of([&] { read_raw(path, {{3, 2}, 8}); });
+  EXPECT_MENTIONS(shorter, "holds 5 bytes");
+  EXPECT_MENTIONS(shorter, "3 x 2");
+  EXPECT_MENTIONS(shorter, "needs 6");
+  EXPECT_MENTIONS(shorter, "cut short");
+  // Six bytes are 3 x 2 of uint8, not of uint16.
+  write_bytes(path, {1, 2, 3, 4, 5, 6});
+  EXPECT_MENTIONS(error_of([&] { read_raw(path, {{3, 2}, 16}); }), "uint16 needs 12");
+  EXPECT_MENTIONS(error_of([&] { read_raw(path, {{2, 2}, 8}); }), "holds 6 bytes");
+  EXPECT_MENTIONS(error_of([&] { read_raw(path, {{6}, 8}); }), "Image/Shape");
+  EXPECT_MENTIONS(error_of([&] { read_raw(path, {{3, 0}, 8}); }), "at least one voxel");
+}
+
+TEST(ImageReader, FormatIsChosenByExtensionInAnyCase) {
+  const auto png = temp_path("upper.PNG");
+  write_png(png, asymmetric(), 8);
+  expect_asymmetric_axes(read_image(png, {}));
+  const auto raw = temp_path("raw.RAW");
+  write_bytes(raw, {1, 2, 3, 4, 5, 6});
+  EXPECT_EQ(read_image(raw, {{3, 2}, 8}).at(0, 1), 4);
+  const auto bmp = temp_path("image.bmp");
+  write_bytes(bmp, {1, 2, 3});
+  EXPECT_MENTIONS(error_of([&] { read_image(bmp, {}); }), "unknown image format '.bmp'");
+}
+
+TEST(VoxelImage, MirrorRepeatsTheImageBackwardsAlongOneAxis) {
+  VoxelImage image;
+  image.shape = {3, 2, 1};
+  image.values = {1, 2, 3, 4, 5, 6};
+  const auto along_x = mirrored(image, 0);
+  ASSERT_EQ(along_x.shape[0], 6);
+  ASSERT_EQ(along_x.shape[1], 2);
+  const std::vector<std::uint16_t> x_expected = {1, 2, 3, 3, 2, 1, 4, 5, 6, 6, 5, 4};
+  EXPECT_EQ(along_x.values, x_expected);
+  const auto along_y = mirrored(image, 1);
+  ASSERT_EQ(along_y.shape[1], 4);
+  const std::vector<std::uint16_t> y_expected = {1, 2, 3, 4, 5, 6, 4, 5, 6, 1, 2, 3};
+  EXPECT_EQ(along_y.values, y_expected);
+  EXPECT_THROW(mirrored(image, 2), std::invalid_argument);  // no z in 2D
+}
+
+TEST(VoxelImage, SolidValuesSplitTheVoxels) {
+  VoxelImage image;
+  image.shape = {4, 1, 1};
+  image.bits = 16;
+  image.values = {0, 7, 65535, 7};
+  const auto counts = count_voxels(image, {7, 65535});
+  EXPECT_EQ(counts.solid, 3);
+  EXPECT_EQ(counts.pore, 1);
+  EXPECT_EQ(count_voxels(image, {3}).solid, 0);
+}
+
+}  // namespace
+}  // namespace poresph
