@@ -1,10 +1,13 @@
-// Segmented images: each format read with the axes io/ImageReader.hpp states,
-// every bad image refused with its reason. The files are written here with
-// libpng and libtiff themselves, so that a reader and a writer agree on what
-// a file is only through the format.
+// Segmented images: each format read with the axes docs/method.md states,
+// every bad image refused with its reason, and the Image parameters checked
+// against the rest of the scene. The files are written here with libpng and
+// libtiff themselves, so that a reader and a writer agree on what a file is
+// only through the format.
 #include <gtest/gtest.h>
 #include <png.h>
 #include <tiffio.h>
+
+#include <Teuchos_Array.hpp>
 
 #include <csetjmp>
 #include <cstdio>
@@ -14,13 +17,17 @@
 #include <string>
 #include <vector>
 
+#include "app/SceneCheck.hpp"
 #include "geometry/VoxelImage.hpp"
 #include "io/ImageReader.hpp"
+#include "io/Parameters.hpp"
 
 namespace poresph {
 namespace {
 
 namespace fs = std::filesystem;
+using Teuchos::Array;
+using Teuchos::ParameterList;
 
 std::string temp_path(const std::string& name) {
   return (fs::temp_directory_path() / ("poresph-image-" + name)).string();
@@ -428,6 +435,200 @@ TEST(VoxelImage, SolidValuesSplitTheVoxels) {
   EXPECT_EQ(counts.solid, 3);
   EXPECT_EQ(counts.pore, 1);
   EXPECT_EQ(count_voxels(image, {3}).solid, 0);
+}
+
+// --- the Image parameters ------------------------------------------------
+
+template <class T>
+Array<T> array(std::initializer_list<T> values) {
+  return Array<T>(std::vector<T>(values));
+}
+
+// 3 x 2 voxels of 0.1 m in a 0.3 x 0.2 cell, solid where the value is 6.
+ParameterList image_scene(const std::string& file) {
+  ParameterList list("PoreSPH");
+  list.sublist("Domain").set("Cell Size", array<double>({0.3, 0.2}));
+  list.sublist("Fluid").set("Kinematic Viscosity", 1e-2);
+  list.sublist("Fluid").set("Body Force", array<double>({1e-3, 0.0}));
+  list.sublist("Discretization").set("Particle Spacing", 0.01);
+  list.sublist("Run").set("End Time", 1.0);
+  auto& image = list.sublist("Image");
+  image.set("File", file);
+  image.set("Solid Values", array<int>({6}));
+  image.set("Voxel Size", 0.1);
+  return list;
+}
+
+std::string scene_error(ParameterList list, const std::string& directory = "") {
+  return error_of<ParameterError>([&] {
+    validate_parameters(list);
+    scene_from_parameters(list, directory);
+  });
+}
+
+class ImageParameters : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    fs::create_directories(folder);
+    write_png(png, asymmetric(), 8);
+  }
+  const std::string folder = temp_path("scene");
+  const std::string png = folder + "/sample.png";
+};
+
+TEST_F(ImageParameters, ImageIsReadRelativeToTheSceneFolder) {
+  auto list = image_scene("sample.png");
+  validate_parameters(list);
+  const auto scene = scene_from_parameters(list, folder);
+  ASSERT_TRUE(scene.image.voxels);
+  EXPECT_EQ(scene.image.file, png);
+  expect_asymmetric_axes(*scene.image.voxels);
+  EXPECT_EQ(scene.image.counts.solid, 1);
+  EXPECT_EQ(scene.image.counts.pore, 5);
+  EXPECT_EQ(scene.image.mirror_axis, -1);
+  EXPECT_TRUE(scene.grains.empty());
+  // Not simulated yet: the run is refused rather than run without its solid.
+  auto copy = scene;
+  MemoryBudget budget;
+  budget.available_bytes = 1e12;
+  EXPECT_MENTIONS(error_of<ParameterError>([&] { check_scene(copy, 1, budget); }), "does not simulate images yet");
+  // A scene without an image has none.
+  auto plain = image_scene("");
+  plain.sublist("Image").remove("Solid Values");
+  plain.sublist("Image").remove("Voxel Size");
+  validate_parameters(plain);
+  EXPECT_FALSE(scene_from_parameters(plain, folder).image.voxels);
+}
+
+TEST_F(ImageParameters, CellOtherThanTheImageIsRefusedNamingBoth) {
+  auto list = image_scene(png);
+  list.sublist("Domain").set("Cell Size", array<double>({0.3, 0.25}));
+  const auto error = scene_error(list);
+  EXPECT_MENTIONS(error, "Domain/Cell Size {0.3, 0.25}");
+  EXPECT_MENTIONS(error, "{0.3, 0.2}");
+  EXPECT_MENTIONS(error, "Image/Voxel Size 0.1");
+  // Within 1e-9 relative it is the same cell; beyond, not.
+  list.sublist("Domain").set("Cell Size", array<double>({0.3 * (1 + 5e-10), 0.2}));
+  EXPECT_EQ(scene_error(list), "");
+  list.sublist("Domain").set("Cell Size", array<double>({0.3 * (1 + 5e-9), 0.2}));
+  EXPECT_MENTIONS(scene_error(list), "Domain/Cell Size");
+}
+
+TEST_F(ImageParameters, ImageAndGrainsExcludeEachOther) {
+  auto list = image_scene(png);
+  list.sublist("Grains").set("Inline", array<double>({0.1, 0.1, 0.02}));
+  EXPECT_MENTIONS(scene_error(list), "a scene uses one of them");
+  auto packed = image_scene(png);
+  packed.sublist("Grains").sublist("Random Pack").set("Porosity", 0.5);
+  EXPECT_MENTIONS(scene_error(packed), "a scene uses one of them");
+}
+
+TEST_F(ImageParameters, RequiredAndOrphanedValuesAreNamed) {
+  auto no_solid = image_scene(png);
+  no_solid.sublist("Image").remove("Solid Values");
+  EXPECT_MENTIONS(scene_error(no_solid), "Image/Solid Values is required");
+  auto no_size = image_scene(png);
+  no_size.sublist("Image").remove("Voxel Size");
+  EXPECT_MENTIONS(scene_error(no_size), "Image/Voxel Size is required");
+  auto orphan = image_scene("");
+  EXPECT_MENTIONS(scene_error(orphan), "Image/Solid Values is given but Image/File is empty");
+  auto out_of_range = image_scene(png);
+  out_of_range.sublist("Image").set("Solid Values", array<int>({70000}));
+  EXPECT_MENTIONS(scene_error(out_of_range), "Solid Values");
+  auto beyond_8_bits = image_scene(png);
+  beyond_8_bits.sublist("Image").set("Solid Values", array<int>({6, 300}));
+  EXPECT_MENTIONS(scene_error(beyond_8_bits), "300 cannot occur");
+  auto throat = image_scene(png);
+  throat.sublist("Discretization").remove("Particle Spacing");
+  throat.sublist("Discretization").set("Spacings Across Throat", 4.0);
+  EXPECT_MENTIONS(scene_error(throat), "Spacings Across Throat");
+}
+
+TEST_F(ImageParameters, AllSolidOrAllPoreIsRefused) {
+  auto none_solid = image_scene(png);
+  none_solid.sublist("Image").set("Solid Values", array<int>({0, 7}));
+  EXPECT_MENTIONS(scene_error(none_solid), "no solid voxels");
+  auto all_solid = image_scene(png);
+  all_solid.sublist("Image").set("Solid Values", array<int>({1, 2, 3, 4, 5, 6}));
+  EXPECT_MENTIONS(scene_error(all_solid), "no pore voxels");
+}
+
+TEST_F(ImageParameters, ShapeAndDimensionAreCheckedAgainstTheFile) {
+  auto wrong_shape = image_scene(png);
+  wrong_shape.sublist("Image").set("Shape", array<int>({2, 3}));
+  EXPECT_MENTIONS(scene_error(wrong_shape), "is not of Image/Shape {2, 3}");
+  auto right_shape = image_scene(png);
+  right_shape.sublist("Image").set("Shape", array<int>({3, 2}));
+  EXPECT_EQ(scene_error(right_shape), "");
+  auto three_d = image_scene(png);
+  three_d.sublist("Domain").set("Cell Size", array<double>({0.3, 0.2, 0.1}));
+  three_d.sublist("Fluid").set("Body Force", array<double>({1e-3, 0.0, 0.0}));
+  EXPECT_MENTIONS(scene_error(three_d), "is a 2D image, but Domain/Cell Size has 3 values");
+
+  const auto raw = folder + "/sample.raw";
+  write_bytes(raw, {1, 2, 3, 4, 5, 6});
+  auto unshaped = image_scene(raw);
+  EXPECT_MENTIONS(scene_error(unshaped), "Image/Shape is required for a .raw image");
+  auto shaped = image_scene(raw);
+  shaped.sublist("Image").set("Shape", array<int>({3, 2}));
+  EXPECT_EQ(scene_error(shaped), "");
+  shaped.sublist("Image").set("Type", std::string("uint16"));
+  EXPECT_MENTIONS(scene_error(shaped), "uint16 needs 12");
+  auto broken = image_scene(folder + "/missing.png");
+  EXPECT_MENTIONS(scene_error(broken), "no such file");
+}
+
+TEST_F(ImageParameters, MirrorDoublesTheCellAlongTheDrivenAxis) {
+  auto list = image_scene(png);
+  list.sublist("Image").set("Mirror", true);
+  EXPECT_MENTIONS(scene_error(list), "after Image/Mirror");  // the cell is still the unmirrored image
+  list.sublist("Domain").set("Cell Size", array<double>({0.6, 0.2}));
+  validate_parameters(list);
+  const auto scene = scene_from_parameters(list);
+  EXPECT_EQ(scene.image.mirror_axis, 0);
+  ASSERT_EQ(scene.image.voxels->shape[0], 6);
+  EXPECT_EQ(scene.image.voxels->at(3, 1), 3);  // the top row 1 2 3 | 3 2 1
+  EXPECT_EQ(scene.image.voxels->at(5, 1), 1);
+  EXPECT_EQ(scene.image.counts.solid, 2);
+
+  // Driven along y: mirrored along y.
+  auto along_y = image_scene(png);
+  along_y.sublist("Image").set("Mirror", true);
+  along_y.sublist("Fluid").set("Body Force", array<double>({0.0, 1e-3}));
+  along_y.sublist("Domain").set("Cell Size", array<double>({0.3, 0.4}));
+  validate_parameters(along_y);
+  EXPECT_EQ(scene_from_parameters(along_y).image.mirror_axis, 1);
+
+  auto tensor = image_scene(png);
+  tensor.sublist("Image").set("Mirror", true);
+  tensor.sublist("Permeability").set("Tensor", true);
+  EXPECT_MENTIONS(scene_error(tensor), "Permeability/Tensor");
+  auto undriven = image_scene(png);
+  undriven.sublist("Image").set("Mirror", true);
+  undriven.sublist("Fluid").set("Body Force", array<double>({1e-3, 1e-3}));
+  EXPECT_MENTIONS(scene_error(undriven), "must lie along one axis");
+}
+
+TEST_F(ImageParameters, ImageIsGivenFromXmlAndSet) {
+  const auto xml = folder + "/scene.xml";
+  std::ofstream(xml) << R"xml(<ParameterList name="PoreSPH">
+  <ParameterList name="Domain"><Parameter name="Cell Size" type="Array(double)" value="{0.3, 0.2}"/></ParameterList>
+  <ParameterList name="Fluid"><Parameter name="Kinematic Viscosity" type="double" value="0.01"/>
+    <Parameter name="Body Force" type="Array(double)" value="{0.001, 0}"/></ParameterList>
+  <ParameterList name="Discretization"><Parameter name="Particle Spacing" type="double" value="0.01"/></ParameterList>
+  <ParameterList name="Run"><Parameter name="End Time" type="double" value="1"/></ParameterList>
+  <ParameterList name="Image">
+    <Parameter name="File" type="string" value="sample.png"/>
+    <Parameter name="Solid Values" type="Array(int)" value="{6}"/>
+    <Parameter name="Voxel Size" type="double" value="0.1"/>
+  </ParameterList>
+</ParameterList>
+)xml";
+  const auto list = read_parameters(xml, {"Image/Solid Values={5, 6}"});
+  const auto scene = scene_from_parameters(*list, folder);
+  EXPECT_EQ(scene.image.solid_values, (std::vector<int>{5, 6}));
+  EXPECT_EQ(scene.image.counts.solid, 2);
+  EXPECT_MENTIONS(error_of<ParameterError>([&] { read_parameters(xml, {"Image/Type=uint32"}); }), "uint32");
 }
 
 }  // namespace

@@ -166,6 +166,12 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
     refuse("Run/Backend = openmp, but this build's Kokkos has no OpenMP backend (Debian's is Serial only); "
            "build one with scripts/build-trilinos-openmp.sh and configure with cmake --preset openmp");
 #endif
+  // Read and checked by now, but nothing fills the lattice from voxels yet:
+  // a run would be of the empty cell.
+  if (scene.image.voxels)
+    refuse("Image/File '", scene.image.file,
+           "' is read and checked, but PoreSPH does not simulate images yet (issue 16): the lattice is not filled "
+           "from voxels; describe the solid with Grains");
   try {
     e.derived = derive_parameters(scene);
     // The paper's process grid must match the number of processes (RCB fits any).

@@ -2,6 +2,7 @@
 
 #include "geometry/Grains.hpp"
 #include "geometry/RandomPack.hpp"
+#include "io/ImageReader.hpp"
 
 #include <Teuchos_Array.hpp>
 #include <Teuchos_StandardParameterEntryValidators.hpp>
@@ -184,6 +185,33 @@ RCP<ParameterList> make_valid_parameters() {
           "Grains may touch, overlapping by at most min(Minimum Gap, 0.1 of the smaller radius), as the grains "
           "of a soil do; false: every pair keeps Minimum Gap, which limits how dense a pack can be.");
     p.set("Seed", 1, "Seed of the random draws (std::mt19937_64).", int_in(0, std::numeric_limits<int>::max()));
+  }
+  {
+    auto& s = list->sublist("Image", false,
+                            "A segmented image (a micro-CT volume, a thin section) as the solid, instead of Grains. "
+                            "Voxel (i, j, k) covers [i, i+1) x [j, j+1) x [k, k+1) voxel sizes from the origin. Read "
+                            "and checked before any work; not simulated yet (issue 16): a run of it is refused.");
+    s.set("File", std::string(""),
+          "The image, by extension: .png (2D, 8 or 16-bit greyscale), .tif or .tiff (2D, or 3D as a stack of "
+          "pages, page p at z = p; 8 or 16-bit greyscale), .raw (headerless, with Shape and Type). The first row "
+          "of a PNG or TIFF page is at the largest y (y up, as displayed); a raw volume is x fastest, then y, "
+          "then z. A relative path is relative to the scene file's folder. Empty: no image.");
+    s.set("Shape", Array<int>(),
+          "Voxels per direction, {nx, ny} (2D) or {nx, ny, nz} (3D): REQUIRED for .raw, checked against the "
+          "file's size; for .png and .tif, checked against the image when given.",
+          ints_in(1, std::numeric_limits<int>::max()));
+    s.set("Type", std::string("uint8"), "Value type of a .raw file: 'uint8', or 'uint16' (little-endian).",
+          one_of({"uint8", "uint16"}));
+    s.set("Solid Values", Array<int>(),
+          "REQUIRED with File. The voxel values that are solid; every other value is pore.", ints_in(0, 65535));
+    s.set("Voxel Size", 0.0,
+          "REQUIRED with File. Side of a voxel (m). Domain/Cell Size must equal the image's extent (voxels "
+          "times this, after Mirror) to 1e-9 relative.",
+          real_in(0.0, kHuge));
+    s.set("Mirror", false,
+          "Follow the image by its mirror image along the driven axis (that of Fluid/Body Force), so that a "
+          "sample whose two faces do not match becomes periodic along the flow, as users of LBM codes do; the "
+          "cell is then twice the image along that axis. Not with Permeability/Tensor.");
   }
   {
     auto& s = list->sublist("Permeability", false,
@@ -456,6 +484,118 @@ double spacing_across_throat(const SceneConfig& scene, double n) {
   throw ParameterError(msg.str());
 }
 
+// "{1, 2, 3}": for messages.
+template <class T>
+std::string list_text(const std::vector<T>& values) {
+  std::ostringstream out;
+  out.precision(10);
+  out << "{";
+  for (size_t k = 0; k < values.size(); ++k) out << (k ? ", " : "") << values[k];
+  out << "}";
+  return out.str();
+}
+
+// The Image sublist: the voxels read, mirrored if asked, and checked
+// against the rest of the scene (dimension, cell, grains) before any work.
+// Parsed after Fluid, so that the driven axis is known.
+void read_scene_image(const ParameterList& list, const std::string& scene_directory, SceneConfig& scene) {
+  const auto& image = list.sublist("Image");
+  const auto shape_values = image.get<Array<int>>("Shape");
+  const auto solid_values = image.get<Array<int>>("Solid Values");
+  const double voxel_size = image.get<double>("Voxel Size");
+  const bool mirror = image.get<bool>("Mirror");
+  std::string file = image.get<std::string>("File");
+  if (file.empty()) {
+    // Said, not ignored: a scene that sets them meant to use an image.
+    const char* given = !shape_values.empty()  ? "Shape"
+                        : !solid_values.empty() ? "Solid Values"
+                        : voxel_size > 0        ? "Voxel Size"
+                        : mirror                ? "Mirror"
+                                                : nullptr;
+    if (given) throw ParameterError(std::string("Image/") + given + " is given but Image/File is empty");
+    return;
+  }
+  const auto& grains = list.sublist("Grains");
+  if (!grains.get<std::string>("File").empty() || !grains.get<Array<double>>("Inline").empty() ||
+      grains.sublist("Random Pack").get<double>("Porosity") > 0)
+    throw ParameterError("Image/File and Grains describe the solid both: a scene uses one of them");
+  if (list.sublist("Discretization").get<double>("Spacings Across Throat") > 0)
+    throw ParameterError("Discretization/Spacings Across Throat measures the throats between grains, not yet an "
+                         "image's: give Discretization/Particle Spacing");
+  if (solid_values.empty()) throw ParameterError("Image/Solid Values is required with Image/File");
+  if (!(voxel_size > 0)) throw ParameterError("Image/Voxel Size is required with Image/File (a positive length)");
+  if (file[0] != '/' && !scene_directory.empty()) file = scene_directory + "/" + file;
+
+  RawLayout raw;
+  raw.shape.assign(shape_values.begin(), shape_values.end());
+  raw.bits = image.get<std::string>("Type") == "uint16" ? 16 : 8;
+  std::string extension = std::filesystem::path(file).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool is_raw = extension == ".raw";
+  if (is_raw && raw.shape.empty())
+    throw ParameterError("Image/Shape is required for a .raw image ('" + file + "' says nothing of its own shape)");
+  VoxelImage voxels;
+  try {
+    voxels = read_image(file, raw);
+  } catch (const std::invalid_argument& e) {
+    throw ParameterError(e.what());
+  }
+  const std::string named = "Image/File '" + file + "' (" + shape_text(voxels) + ")";
+  if (!is_raw && !raw.shape.empty()) {
+    std::vector<long long> read_shape(voxels.shape.begin(), voxels.shape.begin() + voxels.dimension);
+    if (read_shape != raw.shape)
+      throw ParameterError(named + " is not of Image/Shape " + list_text(raw.shape));
+  }
+  if (voxels.dimension != scene.dimension)
+    throw ParameterError(named + " is a " + std::to_string(voxels.dimension) + "D image, but Domain/Cell Size has " +
+                         std::to_string(scene.dimension) + " values");
+  const int largest = (1 << voxels.bits) - 1;
+  for (int v : solid_values)
+    if (v > largest)
+      throw ParameterError("Image/Solid Values: " + std::to_string(v) + " cannot occur in " + named + ", an " +
+                           std::to_string(voxels.bits) + "-bit image (values 0 to " + std::to_string(largest) + ")");
+  if (mirror) {
+    if (list.sublist("Permeability").get<bool>("Tensor"))
+      throw ParameterError("Image/Mirror mirrors along the one driven axis, and Permeability/Tensor drives every "
+                           "axis in turn: use one of them");
+    int axis = -1, driven = 0;
+    for (int d = 0; d < scene.dimension; ++d)
+      if (scene.body_force[d] != 0) axis = d, ++driven;
+    if (driven != 1)
+      throw ParameterError("Image/Mirror mirrors along the driven axis: Fluid/Body Force must lie along one axis");
+    voxels = mirrored(voxels, axis);
+    scene.image.mirror_axis = axis;
+  }
+  // The cell is the image: a cell of another size would stretch the voxels
+  // or leave a part of the cell without a solid or pore said.
+  std::vector<double> cell, extent;
+  bool agree = true;
+  for (int d = 0; d < scene.dimension; ++d) {
+    cell.push_back(scene.cell_size[d]);
+    extent.push_back(voxels.shape[d] * voxel_size);
+    agree = agree && std::abs(cell[d] - extent[d]) <= 1e-9 * extent[d];
+  }
+  if (!agree) {
+    std::ostringstream msg;
+    msg.precision(10);
+    msg << "Domain/Cell Size " << list_text(cell) << " is not the extent of the image, " << list_text(extent) << " ("
+        << shape_text(voxels) << " voxels" << (mirror ? " after Image/Mirror" : "") << " of Image/Voxel Size "
+        << voxel_size << " m): they must agree to 1e-9 relative";
+    throw ParameterError(msg.str());
+  }
+  scene.image.solid_values.assign(solid_values.begin(), solid_values.end());
+  scene.image.counts = count_voxels(voxels, scene.image.solid_values);
+  if (scene.image.counts.solid == 0)
+    throw ParameterError(named + " has no solid voxels: no value of Image/Solid Values " +
+                         list_text(scene.image.solid_values) + " occurs in it");
+  if (scene.image.counts.pore == 0)
+    throw ParameterError(named + " has no pore voxels: every value is one of Image/Solid Values " +
+                         list_text(scene.image.solid_values));
+  scene.image.file = file;
+  scene.image.voxel_size = voxel_size;
+  scene.image.voxels = std::make_shared<const VoxelImage>(std::move(voxels));
+}
+
 }  // namespace
 
 RCP<const ParameterList> valid_parameters() {
@@ -649,6 +789,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
                    : progress == "never" ? ProgressMode::Never
                                          : ProgressMode::Auto;
 
+  read_scene_image(list, scene_directory, scene);
   const auto& grains = list.sublist("Grains");
   try {
     std::string file = grains.get<std::string>("File");

@@ -2,8 +2,11 @@
 // A scene as the solver sees it: plain values, already validated. Only the
 // io layer knows about Teuchos; everything else reads this struct.
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "geometry/VoxelImage.hpp"
 
 namespace poresph {
 
@@ -15,6 +18,18 @@ struct Grain {
   double radius = 0;
   std::string origin;  // where it was defined, for messages: "grains.txt:12", "Grains/Inline #3"
 };
+// A segmented image as the solid (the Image sublist), instead of grains.
+struct ImageConfig {
+  std::string file;  // as read (a relative name resolved); empty: no image
+  std::vector<int> solid_values;
+  double voxel_size = 0.0;
+  int mirror_axis = -1;  // Image/Mirror: the axis the image was mirrored along (the driven one); -1: none
+  // The voxels as read (and mirrored), shared: the scene is copied for
+  // every level of the resolution ladder, the volume need not be.
+  std::shared_ptr<const VoxelImage> voxels;
+  VoxelCounts counts;
+};
+
 enum class ProgressMode { Auto, Always, Never };
 // How particles move. Fixed: they stay on their lattice and only velocity
 // and density evolve (an Eulerian SPH), so their arrangement cannot lose its
@@ -62,6 +77,8 @@ struct SceneConfig {
   // How the grains were made when PoreSPH made them (Grains/Random Pack):
   // the header of grains_used.txt. Empty for grains given in the scene.
   std::string grains_note;
+  // Image/File was given: the solid is these voxels (no grains).
+  ImageConfig image;
   // What the checks of the input found worth saying but not refusing (narrow throats).
   std::vector<std::string> warnings;
 
