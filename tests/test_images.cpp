@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "app/SceneCheck.hpp"
+#include "geometry/Percolation.hpp"
 #include "geometry/VoxelImage.hpp"
 #include "io/ImageReader.hpp"
 #include "io/Parameters.hpp"
@@ -437,6 +438,76 @@ TEST(VoxelImage, SolidValuesSplitTheVoxels) {
   EXPECT_EQ(count_voxels(image, {3}).solid, 0);
 }
 
+// An image from rows of characters, top row first as displayed: '#' solid (1), '.' pore (0).
+VoxelImage sketch(std::initializer_list<const char*> rows) {
+  VoxelImage image;
+  image.shape = {static_cast<long long>(std::strlen(*rows.begin())), static_cast<long long>(rows.size()), 1};
+  image.values.resize(static_cast<size_t>(image.count()));
+  long long r = 0;
+  for (const char* row : rows) {
+    for (long long i = 0; i < image.shape[0]; ++i)
+      image.values[image.index(i, image.shape[1] - 1 - r)] = row[i] == '#' ? 1 : 0;
+    ++r;
+  }
+  return image;
+}
+
+constexpr std::array<bool, 3> kPeriodic{{true, true, true}};
+
+TEST(Percolation, OpenChannelCarriesFlowAlongItOnly) {
+  const auto channel = sketch({"######",
+                               "......",
+                               "######"});
+  EXPECT_TRUE(pore_percolates(channel, {1}, 0, kPeriodic));
+  EXPECT_FALSE(pore_percolates(channel, {1}, 1, kPeriodic));
+  // Bounded in x, the channel still joins the two faces.
+  EXPECT_TRUE(pore_percolates(channel, {1}, 0, {false, true, true}));
+}
+
+TEST(Percolation, PoresTouchingBothFacesButClosedInsideDoNotCount) {
+  // The row's two ends meet through the periodic face, but the solid in the
+  // middle closes it: one cluster that does not reach its own image.
+  const auto closed = sketch({"######",
+                              "..#...",
+                              "######"});
+  EXPECT_FALSE(pore_percolates(closed, {1}, 0, kPeriodic));
+  // Bounded in x the closed row has no face-to-face path either.
+  EXPECT_FALSE(pore_percolates(closed, {1}, 0, {false, true, true}));
+  // A band down and to the right: it reaches its own image along x only
+  // through the periodic y face, from the bottom row back to the top.
+  const auto around = sketch({"..##",
+                              "#..#",
+                              "##..",
+                              ".##."});
+  EXPECT_TRUE(pore_percolates(around, {1}, 0, kPeriodic));
+  EXPECT_FALSE(pore_percolates(around, {1}, 0, {true, false, true}));
+}
+
+TEST(Percolation, VoxelsMeetingAtACornerLeaveNoPath) {
+  const auto corners = sketch({"#.#.#.",
+                               ".#.#.#"});
+  EXPECT_FALSE(pore_percolates(corners, {1}, 0, kPeriodic));
+  const auto stair = sketch({"##.###",
+                             "#..###",
+                             "..####",
+                             "######"});
+  EXPECT_FALSE(pore_percolates(stair, {1}, 0, kPeriodic));
+  EXPECT_FALSE(pore_percolates(stair, {1}, 1, kPeriodic));
+}
+
+TEST(Percolation, TubeAlongZOfAVolume) {
+  VoxelImage block;
+  block.dimension = 3;
+  block.shape = {4, 4, 5};
+  block.values.assign(static_cast<size_t>(block.count()), 1);
+  for (long long k = 0; k < 5; ++k) block.values[block.index(1, 2, k)] = 0;
+  EXPECT_TRUE(pore_percolates(block, {1}, 2, kPeriodic));
+  EXPECT_FALSE(pore_percolates(block, {1}, 0, kPeriodic));
+  EXPECT_FALSE(pore_percolates(block, {1}, 1, kPeriodic));
+  block.values[block.index(1, 2, 3)] = 1;  // plugged
+  EXPECT_FALSE(pore_percolates(block, {1}, 2, kPeriodic));
+}
+
 // --- the Image parameters ------------------------------------------------
 
 template <class T>
@@ -551,6 +622,19 @@ TEST_F(ImageParameters, AllSolidOrAllPoreIsRefused) {
   auto all_solid = image_scene(png);
   all_solid.sublist("Image").set("Solid Values", array<int>({1, 2, 3, 4, 5, 6}));
   EXPECT_MENTIONS(scene_error(all_solid), "no pore voxels");
+}
+
+TEST_F(ImageParameters, ImageWithoutAPorePathAlongTheFlowIsRefusedNamingTheAxis) {
+  // Solid 2 and 5, the middle column: the pores cross the cell along y, not along x.
+  auto blocked = image_scene(png);
+  blocked.sublist("Image").set("Solid Values", array<int>({2, 5}));
+  const auto error = scene_error(blocked);
+  EXPECT_MENTIONS(error, "no pore path crosses the cell along x, the driven axis");
+  EXPECT_MENTIONS(error, "{2, 5}");
+  blocked.sublist("Fluid").set("Body Force", array<double>({0.0, 1e-3}));
+  EXPECT_EQ(scene_error(blocked), "");
+  blocked.sublist("Permeability").set("Tensor", true);  // every axis is driven in turn
+  EXPECT_MENTIONS(scene_error(blocked), "along x (Permeability/Tensor");
 }
 
 TEST_F(ImageParameters, ShapeAndDimensionAreCheckedAgainstTheFile) {

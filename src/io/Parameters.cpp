@@ -1,6 +1,7 @@
 #include "io/Parameters.hpp"
 
 #include "geometry/Grains.hpp"
+#include "geometry/Percolation.hpp"
 #include "geometry/RandomPack.hpp"
 #include "io/ImageReader.hpp"
 
@@ -591,6 +592,18 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   if (scene.image.counts.pore == 0)
     throw ParameterError(named + " has no pore voxels: every value is one of Image/Solid Values " +
                          list_text(scene.image.solid_values));
+  // Every driven axis (each in turn for the tensor) needs a pore path
+  // across the cell, or the run would spend its steps finding k = 0.
+  const bool tensor = list.sublist("Permeability").get<bool>("Tensor");
+  for (int axis = 0; axis < scene.dimension; ++axis) {
+    if (!tensor && scene.body_force[axis] == 0) continue;
+    if (!pore_percolates(voxels, scene.image.solid_values, axis, scene.periodic))
+      throw ParameterError(named + ": no pore path crosses the cell along " + std::string(1, "xyz"[axis]) +
+                           (tensor ? " (Permeability/Tensor drives every axis)" : ", the driven axis") +
+                           ": its pore voxels, joined across voxel faces, hold no path through the cell "
+                           "that way, so no flow gets through. Check Image/Solid Values " +
+                           list_text(scene.image.solid_values));
+  }
   scene.image.file = file;
   scene.image.voxel_size = voxel_size;
   scene.image.voxels = std::make_shared<const VoxelImage>(std::move(voxels));

@@ -1,0 +1,60 @@
+#include "geometry/Percolation.hpp"
+
+#include <climits>
+#include <cstdint>
+#include <stdexcept>
+
+namespace poresph {
+
+bool pore_percolates(const VoxelImage& image, const std::vector<int>& solid_values, int axis,
+                     const std::array<bool, 3>& periodic) {
+  if (axis < 0 || axis >= image.dimension) throw std::invalid_argument("pore_percolates: no such axis");
+  std::vector<char> is_solid_value(1 << 16, 0);
+  for (int v : solid_values)
+    if (v >= 0 && v < (1 << 16)) is_solid_value[v] = 1;
+  const auto& shape = image.shape;
+  const size_t count = image.values.size();
+  // Each pore voxel's cell along `axis` as its cluster was reached: the
+  // unwrapped coordinate is i + lap * n. A voxel reached again on another
+  // lap is joined to its own periodic image, which is the path asked for.
+  constexpr int kUnvisited = INT_MIN;
+  std::vector<int> lap(count, kUnvisited);
+  std::vector<size_t> stack;
+  const std::array<long long, 3> stride{{1, shape[0], shape[0] * shape[1]}};
+  for (size_t seed = 0; seed < count; ++seed) {
+    if (is_solid_value[image.values[seed]] || lap[seed] != kUnvisited) continue;
+    bool low_face = false, high_face = false;  // a bounded axis: the cluster touches both ends
+    lap[seed] = 0;
+    stack.assign(1, seed);
+    while (!stack.empty()) {
+      const size_t n = stack.back();
+      stack.pop_back();
+      const long long at[3] = {static_cast<long long>(n) % shape[0], static_cast<long long>(n) / shape[0] % shape[1],
+                               static_cast<long long>(n) / (shape[0] * shape[1])};
+      low_face = low_face || at[axis] == 0;
+      high_face = high_face || at[axis] == shape[axis] - 1;
+      for (int d = 0; d < image.dimension; ++d)
+        for (int step : {-1, 1}) {
+          long long c = at[d] + step;
+          int next_lap = lap[n];
+          if (c < 0 || c >= shape[d]) {
+            if (!periodic[d]) continue;
+            c = c < 0 ? shape[d] - 1 : 0;
+            if (d == axis) next_lap += step;
+          }
+          const size_t m = static_cast<size_t>(static_cast<long long>(n) + (c - at[d]) * stride[d]);
+          if (is_solid_value[image.values[m]]) continue;
+          if (lap[m] == kUnvisited) {
+            lap[m] = next_lap;
+            stack.push_back(m);
+          } else if (lap[m] != next_lap) {
+            return true;
+          }
+        }
+    }
+    if (!periodic[axis] && low_face && high_face) return true;
+  }
+  return false;
+}
+
+}  // namespace poresph
