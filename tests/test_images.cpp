@@ -274,6 +274,11 @@ TEST(ImageReader, TiffPageHasThePngAxes) {
   const auto image = read_tiff(path);
   expect_asymmetric_axes(image);
   EXPECT_EQ(image.bits, 8);
+  // Shaded with 0 as white, the labels are the same labels.
+  page.photometric = PHOTOMETRIC_MINISWHITE;
+  const auto white = temp_path("min-is-white.tif");
+  write_tiff(white, {page});
+  expect_asymmetric_axes(read_tiff(white));
 }
 
 TEST(ImageReader, TiffStackIsAVolumeWithPagesAlongZ) {

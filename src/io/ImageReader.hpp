@@ -27,7 +27,9 @@ struct RawLayout {
 VoxelImage read_png(const std::string& path);
 
 // 8 or 16-bit greyscale unsigned samples, in strips or tiles; one page is a
-// 2D image, several pages of one size a 3D stack, page p at z = p.
+// 2D image, several pages of one size a 3D stack, page p at z = p. Values
+// are kept as stored, also where the file says 0 is white (a label is a
+// label, however a viewer shades it).
 VoxelImage read_tiff(const std::string& path);
 
 // Headerless values; the file's size must be exactly the layout's.
