@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "app/SceneCheck.hpp"
 #include "geometry/Percolation.hpp"
 #include "geometry/VoxelImage.hpp"
@@ -30,8 +32,18 @@ namespace fs = std::filesystem;
 using Teuchos::Array;
 using Teuchos::ParameterList;
 
+// The files of this process, in a folder of its own (builds of other
+// branches may run this test at the same time), removed at exit.
 std::string temp_path(const std::string& name) {
-  return (fs::temp_directory_path() / ("poresph-image-" + name)).string();
+  static const struct Folder {
+    fs::path path = fs::temp_directory_path() / ("poresph-images-" + std::to_string(getpid()));
+    Folder() { fs::create_directories(path); }
+    ~Folder() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  } folder;
+  return (folder.path / name).string();
 }
 
 // Rows top first, as both formats store them; values one per sample.
@@ -548,6 +560,7 @@ class ImageParameters : public ::testing::Test {
     fs::create_directories(folder);
     write_png(png, asymmetric(), 8);
   }
+  void TearDown() override { fs::remove_all(folder); }
   const std::string folder = temp_path("scene");
   const std::string png = folder + "/sample.png";
 };
