@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """Strong and weak scaling over MPI ranks, as in Morris, Zhu & Fox (1999).
 
-    perf/scaling.py strong [--problems 1 2 3] [--spacings 0.001 0.0005 0.00025] [--ranks 1 2 4] [--steps 100] [--repeats 3]
+    perf/scaling.py strong [--problems 1 2 3 3d] [--spacings 0.001 0.0005 0.00025] [--spacings-3d 0.005 0.0025]
+                           [--ranks 1 2 4] [--steps 100] [--repeats 3]
     perf/scaling.py weak   [--spacing 0.0005] [--ranks 1 2 4] [--steps 100] [--repeats 3]
 
 Strong: a fixed problem (the paper's problems I-III at its three
-resolutions) on 1..N ranks. Weak: problem I with the cell stretched along x
+resolutions, and with `3d` the simple cubic array of spheres of
+input/3d at 20 and 40 particles per side) on 1..N ranks. Weak: problem I with the cell stretched along x
 so that every rank holds the same number of particles. Each point is the
 median of --repeats runs of --steps steps (time loop only, from
 summary.json), repeats interleaved across configurations. Writes scaling_strong.csv / scaling_weak.csv into --out and
@@ -26,7 +28,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from poresph_runs import CORES, ROOT, moving_particles, run_poresph  # noqa: E402
 
-SCENES = {1: "problem1/problem1.xml", 2: "problem2/problem2.xml", 3: "problem3/problem3.xml"}
+SCENES = {"1": "problem1/problem1.xml", "2": "problem2/problem2.xml", "3": "problem3/problem3.xml",
+          "3d": "3d/simple_cubic.xml"}
 def run(build, out, scene, ranks, steps, settings):
     directory = os.path.join(out, "runs", f"{os.path.basename(scene)}-{ranks}-{'-'.join(settings)}".replace("/", "_"))
     # Moving particles, as in the figures of docs/performance.md (sessions 2-5).
@@ -89,8 +92,9 @@ def main():
     parser.add_argument("mode", choices=["strong", "weak"])
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
     parser.add_argument("--out", default=os.path.join(ROOT, "build", "scaling"))
-    parser.add_argument("--problems", type=int, nargs="+", default=[1, 2, 3])
+    parser.add_argument("--problems", nargs="+", choices=sorted(SCENES), default=["1", "2", "3"])
     parser.add_argument("--spacings", type=float, nargs="+", default=[0.001, 0.0005, 0.00025])
+    parser.add_argument("--spacings-3d", type=float, nargs="+", default=[0.005, 0.0025])
     parser.add_argument("--spacing", type=float, default=0.0005)
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4])
     parser.add_argument("--steps", type=int, default=100)
@@ -100,7 +104,8 @@ def main():
     rows = []
     if args.mode == "strong":
         configs = [((problem, dx, ranks), SCENES[problem], ranks, [f"Discretization/Particle Spacing={dx!r}"])
-                   for problem in args.problems for dx in args.spacings for ranks in args.ranks]
+                   for problem in args.problems
+                   for dx in (args.spacings_3d if problem == "3d" else args.spacings) for ranks in args.ranks]
         measured = measure_all(args, configs)
         for (problem, dx, ranks), *_ in configs:
             row = measured[(problem, dx, ranks)]
@@ -111,7 +116,7 @@ def main():
         base = [r for r in rows if r["problem"] == min(args.problems) and r["ranks"] == 1]
         largest = max(base, key=lambda r: r["particles"])
     else:
-        configs = [(ranks, SCENES[1], ranks, [f"Discretization/Particle Spacing={args.spacing!r}",
+        configs = [(ranks, SCENES["1"], ranks, [f"Discretization/Particle Spacing={args.spacing!r}",
                                                f"Domain/Cell Size={{{0.1 * ranks!r}, 0.1}}"]) for ranks in args.ranks]
         measured = measure_all(args, configs)
         for ranks in args.ranks:
