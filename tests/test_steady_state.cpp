@@ -103,6 +103,42 @@ TEST(SteadyState, AnOscillationWhosePeriodIsTheSpanIsNotTakenForFlat) {
   EXPECT_NEAR(detector.relative_change(), 0.02, 1e-3);
 }
 
+// A warm-started level: k has settled but carries an acoustic oscillation
+// of period P decaying slowly. Judged over one period (set_smoothing(P)),
+// the oscillation averages out: the test stops long before the swing of
+// the samples is within the tolerance, and the value it reports, the mean
+// over the period, is within the tolerance of the limit. A slow approach
+// under the same oscillation still holds it.
+TEST(SteadyState, SmoothingOverThePeriodIgnoresAnAcousticOscillation) {
+  const double period = 50, decay = 150, tol = 1e-3;
+  auto k = [&](double t) { return 1 + 0.003 * std::exp(-t / decay) * std::cos(2 * M_PI * t / period); };
+  SteadyStateDetector plain(0.0, tol), smoothed(0.0, tol);
+  smoothed.set_smoothing(period);
+  const Stop plain_stop = run(plain, k, 1.0, 5000, period);
+  const Stop smoothed_stop = run(smoothed, k, 1.0, 5000, period);
+  ASSERT_TRUE(plain_stop.steady);
+  ASSERT_TRUE(smoothed_stop.steady);
+  EXPECT_LT(smoothed_stop.time, 0.8 * plain_stop.time);
+  EXPECT_NEAR(smoothed.judged_value()[0], 1.0, tol);
+  // The judged value is the mean over the period, not the last sample.
+  EXPECT_NE(smoothed.judged_value()[0], k(smoothed_stop.time));
+
+  auto approaching = [&](double t) { return k(t) - 0.05 * std::exp(-t / 400); };
+  SteadyStateDetector slow(0.0, tol);
+  slow.set_smoothing(period);
+  const Stop slow_stop = run(slow, approaching, 1.0, 20000, period);
+  ASSERT_TRUE(slow_stop.steady);
+  EXPECT_LE(0.05 * std::exp(-slow_stop.time / 400), 2 * tol);  // the approach, not the smoothing, decided
+}
+
+// Without smoothing the judged value is the last sample, bit for bit.
+TEST(SteadyState, NoSmoothingJudgesTheSamplesThemselves) {
+  SteadyStateDetector detector(10.0, 1e-3);
+  for (double t = 0; t <= 100; t += 1) detector.add(t, 1 + 0.1 * std::sin(t));
+  EXPECT_EQ(detector.judged_value()[0], 1 + 0.1 * std::sin(100.0));
+  EXPECT_EQ(detector.smoothing(), 0.0);
+}
+
 TEST(SteadyState, PredictsWhenTheToleranceWillBeMet) {
   const double tau = 100, tol = 1e-4;
   auto k = [&](double t) { return 2 - std::exp(-t / tau); };

@@ -167,9 +167,10 @@ class StageLoop {
     if (axis_ >= 0 && scene.kinematic_viscosity > 0) {
       double largest_side = 0;
       for (int d = 0; d < Dim; ++d) largest_side = std::max(largest_side, scene.cell_size[d]);
+      // A warm start excites the slowest acoustic mode: judged over its period.
       PermeabilityMonitor<Dim> monitor(axis_, scene.kinematic_viscosity, force, context_.porosity,
                                        largest_side / sim.derived().sound_speed, scene.steady_window,
-                                       scene.steady_tolerance);
+                                       scene.steady_tolerance, warm_started_);
       permeability_ = std::make_unique<PermeabilityProbe<Dim, Sim>>(
           sim, std::move(monitor), axis_, check_interval, scene.steady_tolerance > 0,
           dir + "/permeability_history" + stage_.suffix + ".csv", continuing,

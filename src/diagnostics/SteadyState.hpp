@@ -16,6 +16,15 @@
 // permeability tensor being driven): every component is followed, each
 // relative to the vector's length, so that a small off-diagonal component
 // still moving keeps the run going only if it matters.
+// With a smoothing time T (set_smoothing), every value above is the mean
+// of the samples over the T before it: over T = L / c, the period of the
+// weakly compressible fluid's slowest acoustic mode, that mode and its
+// harmonics average out, and what is left is the approach of the flow
+// itself. A warm-started level of a resolution ladder uses it: its
+// interpolated start excites that mode, which otherwise holds the stop
+// for several periods after k has settled (docs/method.md). The mean is
+// computed from the kept samples, so that a restart, which keeps them,
+// continues exactly; T = 0 (the default) is the plain test.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -36,29 +45,37 @@ class SteadyStateDetector {
   SteadyStateDetector(double window, double tolerance, int components = 1)
       : window_(window), tolerance_(tolerance), components_(components) {}
 
+  // Judge the mean of the samples over `seconds` before each time (0: the samples themselves).
+  void set_smoothing(double seconds) { smoothing_ = seconds > 0 ? seconds : 0.0; }
+  double smoothing() const { return smoothing_; }
+
   // Adds the sample at `time` (times increasing) with the flow's time scale
   // now (0 if unknown: the window alone sets the span); returns whether steady.
   bool add(double time, const Sample& value, double time_scale = 0) {
     if (samples_.empty()) first_time_ = time;
     samples_.emplace_back(time, value);
     span_ = std::max(window_, time_scale);
-    // Keep three spans and one sample before them, for the interpolation.
-    while (samples_.size() > 2 && samples_[1].first < time - 3 * span_) samples_.pop_front();
+    // Keep three spans and one sample before them, for the interpolation,
+    // and the smoothing time before those, for their means.
+    while (samples_.size() > 2 && samples_[1].first < time - 3 * span_ - smoothing_) samples_.pop_front();
     relative_change_ = remaining_change_ = kUnknown;
     fitted_time_scale_ = kUnknown;
     double length = 0;
     for (int i = 0; i < components_; ++i) length += value[i] * value[i];
     length = std::sqrt(length);
-    if (!(span_ > 0) || time - first_time_ < 2 * span_ || length == 0) return false;
+    if (!(span_ > 0) || time - first_time_ < 2 * span_ + smoothing_ || length == 0) return false;
     const Sample k1 = value_at(time - 2 * span_), k2 = value_at(time - span_);
     Sample lo = k2, hi = k2;  // over the last span: a swing between the three values shows here
-    for (const auto& [t, k] : samples_)
-      if (t >= time - span_)
+    for (size_t s = 0; s < samples_.size(); ++s)
+      if (samples_[s].first >= time - span_) {
+        const Sample k = mean_before(s);
         for (int i = 0; i < components_; ++i) lo[i] = std::min(lo[i], k[i]), hi[i] = std::max(hi[i], k[i]);
+      }
+    const Sample value_now = mean_before(samples_.size() - 1);
     relative_change_ = remaining_change_ = 0;
     fitted_time_scale_ = 0;
     for (int i = 0; i < components_; ++i) {
-      const double d1 = k2[i] - k1[i], d2 = value[i] - k2[i], swing = hi[i] - lo[i];
+      const double d1 = k2[i] - k1[i], d2 = value_now[i] - k2[i], swing = hi[i] - lo[i];
       relative_change_ = std::max(relative_change_, swing / length);
       const double largest = std::max({std::abs(d1), std::abs(d2), swing});
       const double q = d1 != 0 ? d2 / d1 : 0;
@@ -78,6 +95,10 @@ class SteadyStateDetector {
     return remaining_change_ <= tolerance_ && relative_change_ <= tolerance_;
   }
   bool add(double time, double value, double time_scale = 0) { return add(time, Sample{value, 0, 0}, time_scale); }
+
+  // The value judged at the last sample: the sample itself, or with a
+  // smoothing time the mean of the samples over it (zeros before any sample).
+  Sample judged_value() const { return samples_.empty() ? Sample{} : mean_before(samples_.size() - 1); }
 
   // Largest range of a component over the last span, relative to |k(t)|;
   // infinite until two spans have passed.
@@ -123,20 +144,36 @@ class SteadyStateDetector {
   // counts as a monotone approach (small wiggles ride on it).
   static constexpr double kMonotone = 1.1;
 
-  // Linear interpolation between the kept samples (t lies within them).
+  // Sample s itself, or with a smoothing time T the mean of the samples in
+  // (t_s - T, t_s] (all kept: the window reaches T before three spans).
+  Sample mean_before(size_t s) const {
+    if (smoothing_ == 0) return samples_[s].second;
+    Sample sum{};
+    int count = 0;
+    for (size_t r = s + 1; r-- > 0 && samples_[r].first > samples_[s].first - smoothing_;) {
+      for (int i = 0; i < components_; ++i) sum[i] += samples_[r].second[i];
+      ++count;
+    }
+    for (int i = 0; i < components_; ++i) sum[i] /= count;
+    return sum;
+  }
+
+  // Linear interpolation between the kept samples' judged values (t lies within them).
   Sample value_at(double t) const {
     auto after = std::lower_bound(samples_.begin(), samples_.end(), t,
                                   [](const std::pair<double, Sample>& s, double v) { return s.first < v; });
-    if (after == samples_.begin()) return after->second;
-    if (after == samples_.end()) return samples_.back().second;
-    const auto before = std::prev(after);
-    const double w = (t - before->first) / (after->first - before->first);
+    if (after == samples_.begin()) return mean_before(0);
+    if (after == samples_.end()) return mean_before(samples_.size() - 1);
+    const size_t a = static_cast<size_t>(after - samples_.begin());
+    const Sample k_before = mean_before(a - 1), k_after = mean_before(a);
+    const double w = (t - samples_[a - 1].first) / (samples_[a].first - samples_[a - 1].first);
     Sample k{};
-    for (int i = 0; i < components_; ++i) k[i] = before->second[i] + w * (after->second[i] - before->second[i]);
+    for (int i = 0; i < components_; ++i) k[i] = k_before[i] + w * (k_after[i] - k_before[i]);
     return k;
   }
 
   double window_, tolerance_;
+  double smoothing_ = 0;
   int components_;
   double first_time_ = 0, span_ = 0;
   double relative_change_ = kUnknown, remaining_change_ = kUnknown, fitted_time_scale_ = kUnknown;
