@@ -13,9 +13,12 @@
 #include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
 #include "physics/GrainContact.hpp"
+#include "ErrorOf.hpp"
 
 namespace poresph {
 namespace {
+
+using testing::error_of;
 
 SceneConfig unit_cell(double dx = 0.02) {
   SceneConfig s;
@@ -31,16 +34,6 @@ std::string write_file(const std::string& name, const std::string& text) {
   const auto path = std::filesystem::temp_directory_path() / name;
   std::ofstream(path) << text;
   return path.string();
-}
-
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(Grains, FileWithCommentsAndBlankLines) {
@@ -292,12 +285,6 @@ TEST(Grains, FortyThousandGrainsAreCheckedInLinearTime) {
   scene.particle_spacing = 0.005;
   EXPECT_NE(error_of([&] { check_throats(grains, scene); }).find("narrower than one spacing"), std::string::npos);
 }
-
-}  // namespace
-}  // namespace poresph
-
-namespace poresph {
-namespace {
 
 SceneConfig unit_cube(double dx = 0.02) {
   SceneConfig s = unit_cell(dx);

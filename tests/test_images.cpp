@@ -24,9 +24,12 @@
 #include "geometry/VoxelImage.hpp"
 #include "io/ImageReader.hpp"
 #include "io/Parameters.hpp"
+#include "ErrorOf.hpp"
 
 namespace poresph {
 namespace {
+
+using testing::error_of;
 
 namespace fs = std::filesystem;
 using Teuchos::Array;
@@ -175,16 +178,6 @@ void write_bytes(const std::string& path, const std::vector<unsigned char>& byte
 void truncate_to(const std::string& path, std::uintmax_t keep) {
   ASSERT_GT(fs::file_size(path), keep);
   fs::resize_file(path, keep);
-}
-
-template <class Error = std::invalid_argument, class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
 }
 
 #define EXPECT_MENTIONS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)

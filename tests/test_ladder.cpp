@@ -13,28 +13,12 @@
 #include "app/Run.hpp"
 #include "app/RunPlan.hpp"
 #include "io/Parameters.hpp"
+#include "SharedDirectory.hpp"
 
 namespace poresph {
 namespace {
 
-int world_size() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
-
-std::string fresh_directory(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("poresph-test-ladder-" + name + "-" + std::to_string(world_size()) + "-ranks");
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank == 0) {
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
-  return dir.string();
-}
+std::string fresh_directory(const std::string& name) { return testing::fresh_shared_directory("ladder", name); }
 
 SceneConfig scene_of(const std::string& file, std::vector<std::string> overrides) {
   const std::string path = std::string(PORESPH_INPUT_DIR) + "/" + file;

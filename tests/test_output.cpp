@@ -19,34 +19,18 @@
 #include "geometry/Grains.hpp"
 #include "io/Hdf5File.hpp"
 #include "io/Summary.hpp"
+#include "SharedDirectory.hpp"
 
 #include <nlohmann/json.hpp>
 
 namespace poresph {
 namespace {
 
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
+using testing::world_rank;
+using testing::world_size;
 
 // A directory shared by all ranks of this run, empty.
-std::string fresh_directory(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("poresph-test-output-" + name + "-" + std::to_string(world_size()) + "-ranks");
-  if (world_rank() == 0) {
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
-  return dir.string();
-}
+std::string fresh_directory(const std::string& name) { return testing::fresh_shared_directory("output", name); }
 
 TEST(Hdf5File, RowsAndBlocksReadBackEqual) {
   const std::string path = fresh_directory("roundtrip") + "/fields.h5";

@@ -7,6 +7,7 @@
 #include "geometry/Lattice.hpp"
 #include "io/Parameters.hpp"
 #include "io/TextValues.hpp"
+#include "ErrorOf.hpp"
 
 namespace poresph {
 namespace {
@@ -34,12 +35,7 @@ ParameterList minimal_scene() {
 // The message of the ParameterError that `f` raises ("" if none).
 template <class F>
 std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const ParameterError& e) {
-    return e.what();
-  }
-  return "";
+  return testing::error_of<ParameterError>(std::forward<F>(f));
 }
 
 TEST(Parameters, MinimalSceneValidatesAndGetsDefaults) {

@@ -9,9 +9,12 @@
 #include "geometry/Grains.hpp"
 #include "geometry/RandomPack.hpp"
 #include "io/Parameters.hpp"
+#include "ErrorOf.hpp"
 
 namespace poresph {
 namespace {
+
+using testing::error_of;
 
 SceneConfig cube(double side, double dx, int dim = 3) {
   SceneConfig s;
@@ -21,16 +24,6 @@ SceneConfig cube(double side, double dx, int dim = 3) {
   s.kinematic_viscosity = 1e-6;
   s.end_time = 1;
   return s;
-}
-
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
 }
 
 // Every pair of grains, at every periodic image: the narrowest open gap,

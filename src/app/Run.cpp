@@ -156,13 +156,7 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
                                            options.output_dir, error);
     for (size_t k = 0; k + StageRecord::kSize <= st.completed_stages.size(); k += StageRecord::kSize)
       records.push_back(StageRecord::read(&st.completed_stages[k]));
-    const HealthRecord health = HealthRecord::from(st);
-    report.max_density_variation = health.max_density_variation;
-    report.max_density_drift = health.max_density_drift;
-    report.particles_inside_grains = health.particles_inside_grains;
-    report.max_grain_penetration = health.max_grain_penetration;
-    report.grain_surface_corrections = health.grain_surface_corrections;
-    report.max_corrected_depth = health.max_corrected_depth;
+    record_health(report, HealthRecord::from(st));
   }
   const StageContext context{options, claim_output, in_place, report.porosity};
   RunReport summarised;  // the report with the stages' summary: what summary.json says and run() returns

@@ -61,6 +61,20 @@ struct StageRecord {
   }
 };
 
+// What the health watch has seen, as the report keeps it, both ways.
+inline HealthRecord health_of(const RunReport& report) {
+  return {report.max_density_variation, report.max_density_drift, report.particles_inside_grains,
+          report.max_grain_penetration, report.grain_surface_corrections, report.max_corrected_depth};
+}
+inline void record_health(RunReport& report, const HealthRecord& health) {
+  report.max_density_variation = health.max_density_variation;
+  report.max_density_drift = health.max_density_drift;
+  report.particles_inside_grains = health.particles_inside_grains;
+  report.max_grain_penetration = health.max_grain_penetration;
+  report.grain_surface_corrections = health.grain_surface_corrections;
+  report.max_corrected_depth = health.max_corrected_depth;
+}
+
 // The fingerprint of a stage's physics, which its checkpoints carry.
 inline std::string stage_fingerprint(const SceneConfig& scene) {
   const auto derived = derive_parameters(scene);
@@ -149,7 +163,7 @@ class StageLoop {
     const long long check_interval =
         static_cast<long long>(std::clamp(std::floor(shortest_scale / (20 * dt)), 1.0, 100.0));
 
-    health_ = std::make_unique<HealthWatch<Sim>>(sim, earlier_health(), check_interval);
+    health_ = std::make_unique<HealthWatch<Sim>>(sim, health_of(report_), check_interval);
     probes_.push_back(health_.get());
     channel_ = scene.walls == WallType::Channel && stage_.drive_axis <= 0;
     if (channel_) {
@@ -192,11 +206,6 @@ class StageLoop {
     last_step_ = poresph::last_step(scene.end_time, dt, scene.max_steps);
     progress_ = std::make_unique<ProgressObserver<Sim>>(show, label, last_step_, [this]() { return progress_status(); });
     writers_.push_back(progress_.get());
-  }
-
-  HealthRecord earlier_health() const {
-    return {report_.max_density_variation, report_.max_density_drift, report_.particles_inside_grains,
-            report_.max_grain_penetration, report_.grain_surface_corrections, report_.max_corrected_depth};
   }
 
   ProgressStatus progress_status() const {
@@ -311,13 +320,7 @@ class StageLoop {
     report.backend = backend_name<ExecSpace>();
     report.neighbour_rebuilds += sim.neighbour_rebuilds();
     report.neighbours_per_particle = sim.neighbours_per_particle();
-    const HealthRecord health = health_->record();
-    report.max_density_variation = health.max_density_variation;
-    report.max_density_drift = health.max_density_drift;
-    report.particles_inside_grains = health.particles_inside_grains;
-    report.max_grain_penetration = health.max_grain_penetration;
-    report.grain_surface_corrections = health.grain_surface_corrections;
-    report.max_corrected_depth = health.max_corrected_depth;
+    record_health(report, health_->record());
     if (channel_ && stage_.finest()) {
       report.channel = true;
       report.profile_error = channel_probe_->largest_error();

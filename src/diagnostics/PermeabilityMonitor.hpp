@@ -66,8 +66,9 @@ class PermeabilityMonitor {
   double permeability(int i) const { return smoothed() ? detector_.judged_value()[i] : k_[i]; }
   Vec<Dim> superficial_velocity() const {
     if (!smoothed()) return superficial_velocity_;
+    const auto k = detector_.judged_value();
     Vec<Dim> u = Vec<Dim>::zero();
-    for (int i = 0; i < Dim; ++i) u[i] = permeability(i) * force_ / nu_;
+    for (int i = 0; i < Dim; ++i) u[i] = k[i] * force_ / nu_;
     return u;
   }
   bool smoothed() const { return detector_.smoothing() > 0; }

@@ -40,6 +40,30 @@ struct GridBlock {
   }
 };
 
+// Shepard's interpolation of the fluid particles' velocity and pressure
+// above rest_pressure at x, written to velocity[0..Dim) and pressure;
+// returns false (and leaves them alone) where no fluid is within reach.
+template <int Dim, class ParticleArrays, class Cells>
+KOKKOS_INLINE_FUNCTION bool shepard_fluid_at(const ParticleArrays& Q, const Cells& cells,
+                                             const QuinticKernel<Dim>& kernel, const Vec<Dim>& x,
+                                             double rest_pressure, double* velocity, double& pressure) {
+  double weight_sum = 0, velocity_sum[Dim] = {}, pressure_sum = 0;
+  cells.for_each_candidate(x, [&](int j) {
+    if (Q.kind(j) != kFluid) return;
+    double r_sq = 0;
+    for (int d = 0; d < Dim; ++d) r_sq += (x[d] - Q.x(j, d)) * (x[d] - Q.x(j, d));
+    if (r_sq >= kernel.cutoff_sq) return;
+    const double w = Q.m(j) / Q.rho(j) * kernel.value(math::sqrt(r_sq));
+    weight_sum += w;
+    for (int d = 0; d < Dim; ++d) velocity_sum[d] += w * Q.v(j, d);
+    pressure_sum += w * (Q.p(j) - rest_pressure);
+  });
+  if (weight_sum <= 0) return false;
+  for (int d = 0; d < Dim; ++d) velocity[d] = velocity_sum[d] / weight_sum;
+  pressure = pressure_sum / weight_sum;
+  return true;
+}
+
 // Columns of `values` per node: velocity (Dim), pressure, solid.
 template <int Dim, class ExecSpace>
 void interpolate_to_grid(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
@@ -59,25 +83,15 @@ void interpolate_to_grid(const ExecSpace& space, const Particles<Dim, typename E
           values(node, Dim + 1) = 1.0;
           return;
         }
-        double weight_sum = 0, velocity[Dim] = {}, pressure = 0;
-        cells.for_each_candidate(x, [&](int j) {
-          if (Q.kind(j) != kFluid) return;
-          double r_sq = 0;
-          for (int d = 0; d < Dim; ++d) r_sq += (x[d] - Q.x(j, d)) * (x[d] - Q.x(j, d));
-          if (r_sq >= kernel.cutoff_sq) return;
-          const double w = Q.m(j) / Q.rho(j) * kernel.value(math::sqrt(r_sq));
-          weight_sum += w;
-          for (int d = 0; d < Dim; ++d) velocity[d] += w * Q.v(j, d);
-          pressure += w * Q.p(j);
-        });
-        if (weight_sum <= 0) return;
-        for (int d = 0; d < Dim; ++d) values(node, d) = velocity[d] / weight_sum;
-        values(node, Dim) = pressure / weight_sum;
+        double velocity[Dim], pressure;
+        if (!shepard_fluid_at<Dim>(Q, cells, kernel, x, 0.0, velocity, pressure)) return;
+        for (int d = 0; d < Dim; ++d) values(node, d) = velocity[d];
+        values(node, Dim) = pressure;
       });
 }
 
 // The same Shepard interpolation of the fluid's velocity and pressure at n
-// arbitrary points (a finer level's particles, physics/WarmStart.hpp), the
+// arbitrary points (a finer level's particles, Simulation::warm_start), the
 // pressure as p - rest_pressure; a point without fluid in reach gets zeros.
 // Columns of `values`: velocity (Dim), pressure.
 template <int Dim, class ExecSpace, class PointView>
@@ -89,22 +103,10 @@ void interpolate_fluid_at(const ExecSpace& space, const Particles<Dim, typename 
   static const std::string label = "poresph::interpolate_fluid_at";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space, 0, n), KOKKOS_LAMBDA(int i) {
-        const Vec<Dim> x = row<Dim>(points, i);
-        double weight_sum = 0, velocity[Dim] = {}, pressure = 0;
-        cells.for_each_candidate(x, [&](int j) {
-          if (Q.kind(j) != kFluid) return;
-          double r_sq = 0;
-          for (int d = 0; d < Dim; ++d) r_sq += (x[d] - Q.x(j, d)) * (x[d] - Q.x(j, d));
-          if (r_sq >= kernel.cutoff_sq) return;
-          const double w = Q.m(j) / Q.rho(j) * kernel.value(math::sqrt(r_sq));
-          weight_sum += w;
-          for (int d = 0; d < Dim; ++d) velocity[d] += w * Q.v(j, d);
-          pressure += w * (Q.p(j) - rest_pressure);
-        });
-        for (int c = 0; c <= Dim; ++c) values(i, c) = 0.0;
-        if (weight_sum <= 0) return;
-        for (int d = 0; d < Dim; ++d) values(i, d) = velocity[d] / weight_sum;
-        values(i, Dim) = pressure / weight_sum;
+        double velocity[Dim] = {}, pressure = 0;  // zeros where no fluid is in reach
+        shepard_fluid_at<Dim>(Q, cells, kernel, row<Dim>(points, i), rest_pressure, velocity, pressure);
+        for (int d = 0; d < Dim; ++d) values(i, d) = velocity[d];
+        values(i, Dim) = pressure;
       });
 }
 
