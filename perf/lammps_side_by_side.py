@@ -43,6 +43,28 @@ SCENES = {
 MOVING = ["Discretization/Particle Motion=lagrangian"]
 
 
+def sph_model(c):
+    """The fluid both decks share, as in PoreSPH's scenes: water (rho0 = 1000
+    kg/m^3, mu = 1e-3 Pa s) with the Tait equation of state at sound speed c,
+    Morris's viscosity, support 3 dx; LAMMPS's list with a skin of 0.2 dx,
+    checked every step."""
+    return f"""set group all sph/rho 1000.0
+set group all sph/e 0.0
+pair_style sph/taitwater/morris
+pair_coeff * * 1000.0 {c!r} 1.0e-3 $(3.0*v_dx)
+neighbor $(0.2*v_dx) bin
+neigh_modify every 1 delay 0 check yes
+"""
+
+
+def timed_run(dt, steps):
+    """One run of `steps` steps of dt, timed by LAMMPS's "Loop time"."""
+    return f"""timestep {dt!r}
+thermo {steps}
+run {steps}
+"""
+
+
 def channel_deck(dx, c, dt, steps):
     """LAMMPS: the channel of input/poiseuille.xml, 1000 x 40 fluid particles
     on a square lattice with 3 rows of frozen wall particles on each side,
@@ -64,20 +86,11 @@ create_atoms 2 region walls
 group fluid type 1
 group walls type 2
 mass * $(1000.0*v_dx*v_dx)
-set group all sph/rho 1000.0
-set group all sph/e 0.0
-pair_style sph/taitwater/morris
-pair_coeff * * 1000.0 {c!r} 1.0e-3 $(3.0*v_dx)
-neighbor $(0.2*v_dx) bin
-neigh_modify every 1 delay 0 check yes
-fix drive fluid gravity 2.0e-4 vector 1 0 0
+{sph_model(c)}fix drive fluid gravity 2.0e-4 vector 1 0 0
 fix integ fluid sph
 fix frozen walls sph/stationary
 fix twod all enforce2d
-timestep {dt!r}
-thermo {steps}
-run {steps}
-"""
+{timed_run(dt, steps)}"""
 
 
 def box_deck(dx, c, dt, steps):
@@ -94,17 +107,8 @@ region box block 0 50 0 50 0 50 units lattice
 create_box 1 box
 create_atoms 1 region box
 mass * $(1000.0*v_dx*v_dx*v_dx)
-set group all sph/rho 1000.0
-set group all sph/e 0.0
-pair_style sph/taitwater/morris
-pair_coeff * * 1000.0 {c!r} 1.0e-3 $(3.0*v_dx)
-neighbor $(0.2*v_dx) bin
-neigh_modify every 1 delay 0 check yes
-fix integ all sph
-timestep {dt!r}
-thermo {steps}
-run {steps}
-"""
+{sph_model(c)}fix integ all sph
+{timed_run(dt, steps)}"""
 
 
 def run_lammps(lmp, deck_path, directory):

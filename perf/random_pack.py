@@ -19,8 +19,10 @@ from poresph_runs import ROOT, run_poresph, write_csv
 
 
 def sauter_diameter(grains_file):
-    """sum d^3 / sum d^2 over the spheres of a grain file (cx cy cz r per line)."""
+    """sum d^3 / sum d^2 over the spheres of a grain file (cx cy cz r per
+    line), and how many spheres there are."""
     cubes = squares = 0.0
+    spheres = 0
     with open(grains_file) as f:
         for line in f:
             if line.startswith("#") or not line.strip():
@@ -28,7 +30,8 @@ def sauter_diameter(grains_file):
             d = 2 * float(line.replace(",", " ").split()[3])
             cubes += d**3
             squares += d**2
-    return cubes / squares
+            spheres += 1
+    return cubes / squares, spheres
 
 
 def main():
@@ -48,9 +51,7 @@ def main():
     diagonal = sum(tensor[i][i] for i in range(3)) / 3
     asymmetry = max(abs(tensor[i][j] - tensor[j][i]) for i in range(3) for j in range(3)) / diagonal
     eps = summary["porosity"]
-    d = sauter_diameter(os.path.join(directory, "grains_used.txt"))
-    spheres = sum(1 for line in open(os.path.join(directory, "grains_used.txt"))
-                  if line.strip() and not line.startswith("#"))
+    d, spheres = sauter_diameter(os.path.join(directory, "grains_used.txt"))
     kozeny_carman = eps**3 * d**2 / (180 * (1 - eps) ** 2)
     row = dict(spheres=spheres, porosity=eps, sauter_diameter=d, kxx=tensor[0][0], kyy=tensor[1][1],
                kzz=tensor[2][2], kxy=tensor[0][1], kyx=tensor[1][0], kxz=tensor[0][2], kzx=tensor[2][0],
