@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "geometry/GrainMap.hpp"
+#include "geometry/Solid.hpp"
 #include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
 #include "physics/GrainContact.hpp"
@@ -142,7 +143,7 @@ TEST(Grains, MapFindsEveryGrainContainingAPoint) {
 TEST(Grains, PenetratingFluidIsPutBackOnTheSurface) {
   auto scene = unit_cell();
   scene.grains = grains_from_list({0.0, 0.0, 0.3}, 2);  // a quarter in each corner of the cell
-  const auto map = make_grain_map<2, Kokkos::HostSpace>(scene, 0.1);
+  const auto map = make_solid_map<2, Kokkos::HostSpace>(scene, 0.1);
   Particles<2, Kokkos::HostSpace> P;
   P.reserve(3);
   P.owned = 3;

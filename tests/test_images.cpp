@@ -569,11 +569,19 @@ TEST_F(ImageParameters, ImageIsReadRelativeToTheSceneFolder) {
   EXPECT_EQ(scene.image.counts.pore, 5);
   EXPECT_EQ(scene.image.mirror_axis, -1);
   EXPECT_TRUE(scene.grains.empty());
-  // Not simulated yet: the run is refused rather than run without its solid.
+  // The run's checks accept it (the lattice is filled from the image,
+  // tests/test_image_solid.cpp), counting the image in each process's memory.
   auto copy = scene;
   MemoryBudget budget;
   budget.available_bytes = 1e12;
-  EXPECT_MENTIONS(error_of<ParameterError>([&] { check_scene(copy, 1, budget); }), "does not simulate images yet");
+  EXPECT_EQ(error_of<ParameterError>([&] { check_scene(copy, 1, budget); }), "");
+  auto larger = copy;  // 1000 voxels more: 10 bytes each, values and distance field
+  auto voxels = std::make_shared<VoxelImage>(*copy.image.voxels);
+  voxels->shape = {1006, 1, 1};
+  voxels->values.resize(1006);
+  larger.image.voxels = voxels;
+  EXPECT_NEAR(check_scene(larger, 1, budget).bytes_per_process - check_scene(copy, 1, budget).bytes_per_process,
+              10.0 * 1000, 1e-6);
   // A scene without an image has none.
   auto plain = image_scene("");
   plain.sublist("Image").remove("Solid Values");
@@ -620,10 +628,31 @@ TEST_F(ImageParameters, RequiredAndOrphanedValuesAreNamed) {
   auto beyond_8_bits = image_scene(png);
   beyond_8_bits.sublist("Image").set("Solid Values", array<int>({6, 300}));
   EXPECT_MENTIONS(scene_error(beyond_8_bits), "300 cannot occur");
-  auto throat = image_scene(png);
-  throat.sublist("Discretization").remove("Particle Spacing");
-  throat.sublist("Discretization").set("Spacings Across Throat", 4.0);
-  EXPECT_MENTIONS(scene_error(throat), "Spacings Across Throat");
+}
+
+// The pore check of an image: the widest pore path along the driven axis
+// (x) must pass the one solid voxel, (2, 0), through the row above it,
+// whose centres are half a voxel from the solid: 0.1 m wide at its
+// narrowest. Spacings Across Throat divides that width.
+TEST_F(ImageParameters, NarrowestPoreIsTheWidestPathsBottleneck) {
+  auto across = image_scene(png);
+  across.sublist("Discretization").remove("Particle Spacing");
+  across.sublist("Discretization").set("Spacings Across Throat", 4.0);
+  validate_parameters(across);
+  const auto scene = scene_from_parameters(across, folder);
+  EXPECT_DOUBLE_EQ(scene.image.bottleneck[0], 0.1);
+  EXPECT_EQ(scene.image.bottleneck[1], 0.0);  // not driven along y
+  EXPECT_DOUBLE_EQ(scene.particle_spacing, 0.025);
+  EXPECT_TRUE(scene.warnings.empty());
+  auto under_three = image_scene(png);
+  under_three.sublist("Discretization").set("Particle Spacing", 0.05);
+  validate_parameters(under_three);
+  const auto warned = scene_from_parameters(under_three, folder);
+  ASSERT_EQ(warned.warnings.size(), 1u);
+  EXPECT_MENTIONS(warned.warnings[0], "widest pore path along x narrows to 0.1 (1 voxels, 2 particle spacings)");
+  auto under_one = image_scene(png);
+  under_one.sublist("Discretization").set("Particle Spacing", 0.15);
+  EXPECT_MENTIONS(scene_error(under_one), "narrower than one spacing");
 }
 
 TEST_F(ImageParameters, AllSolidOrAllPoreIsRefused) {

@@ -78,6 +78,31 @@ TEST(NoSlip, GrainDistancesDoNotDependOnWhichImageOfTheGrainBIsIn) {
   EXPECT_NEAR(s1.fluid, std::sqrt(dot(from_centre, from_centre)) - 0.9, 1e-15);
 }
 
+// A sampled surface (an image) with the fluid particle's own distance and
+// normal: on a circle, the grain's distances exactly; where a's nearest
+// surface faces the other way (across a throat) or a knows no distance,
+// B's own tangent plane.
+TEST(NoSlip, SampledSurfaceUsesTheFluidParticlesOwnFoot) {
+  // The grain of the test above: centre (0,0), radius 1, a at (0, 1.2), B at (0.6, 0.5).
+  const Vec<2> x_a{{0.0, 1.2}}, x_B{{0.6, 0.5}};
+  const double b_depth = 1.0 - std::sqrt(0.61);
+  const Vec<2> b_normal = (1.0 / std::sqrt(0.61)) * x_B;
+  const Vec<2> a_normal{{0.0, 1.0}};
+  const auto grain = surface_distances<2>(kGrainBoundary, x_B, 1.0, x_a - x_B);
+  const auto sampled = surface_distances<2>(kSampledBoundary, b_normal, b_depth, x_a - x_B, a_normal, 0.2);
+  EXPECT_NEAR(sampled.fluid, grain.fluid, 1e-15);
+  EXPECT_NEAR(sampled.boundary, grain.boundary, 1e-15);
+  EXPECT_NEAR(sampled.normal[1], 1.0, 1e-15);
+  // Without a's distance: B's tangent plane, which puts a nearer the surface than it is.
+  const auto plane = surface_distances<2>(kSampledBoundary, b_normal, b_depth, x_a - x_B);
+  EXPECT_NEAR(plane.boundary, b_depth, 1e-15);
+  EXPECT_NEAR(plane.fluid, dot(b_normal, x_a - x_B) - b_depth, 1e-15);
+  EXPECT_LT(plane.fluid, grain.fluid);
+  // a's nearest surface the other side of a throat (its normal opposes B's): B's plane.
+  const auto across = surface_distances<2>(kSampledBoundary, b_normal, b_depth, x_a - x_B, -1.0 * a_normal, 0.2);
+  EXPECT_NEAR(across.fluid, plane.fluid, 1e-15);
+}
+
 TEST(TimeStep, SoundSpeedRuleTakesTheLargestScale) {
   // Morris et al. (1997) Poiseuille: V = 2.5e-5, L = 1e-3, nu = 1e-6, F = 2e-4, delta = 0.01.
   const double c_sq = sound_speed_squared_from_scales(2.5e-5, 1e-3, 2e-4, 1e-6, 0.01);

@@ -20,6 +20,7 @@
 #include "core/ExecutionSpaces.hpp"
 #include "diagnostics/ConvergenceIndex.hpp"
 #include "geometry/Grains.hpp"
+#include "geometry/Solid.hpp"
 #include "io/Checkpoint.hpp"
 #include "parallel/Communicator.hpp"
 
@@ -110,10 +111,14 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
         if (std::isfinite(change) && std::abs(change) > kDarcyLinearityLimit) {
           char text[200];
           std::snprintf(text, sizeof text,
-                        "k%c%c changes by %+.2f %% at half the body force: the flow is not in the Darcy regime "
-                        "(Reynolds number %.3g)",
-                        "xyz"[i], "xyz"[j], 100 * change, report.reynolds_number);
-          report.warnings.push_back(text);
+                        "k%c%c changes by %+.2f %% at half the body force: the flow is not in the Darcy regime",
+                        "xyz"[i], "xyz"[j], 100 * change);
+          std::string warning = text;
+          if (report.reynolds_number > 0) {  // grains give it a length; an image does not
+            std::snprintf(text, sizeof text, " (Reynolds number %.3g)", report.reynolds_number);
+            warning += text;
+          }
+          report.warnings.push_back(warning);
         }
       }
     }
@@ -132,8 +137,8 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
     if (options.prepare_output) options.prepare_output();
     output_claimed = true;
   };
-  report.has_grains = !scene.grains.empty();
-  report.porosity = porosity(scene.grains, scene);
+  report.has_solid = scene.has_solid();
+  report.porosity = solid_porosity(scene);
   const std::vector<Stage> stages = plan_run(scene);
   std::vector<StageRecord> records;
   std::optional<CheckpointInfo> resume_from;
@@ -165,7 +170,7 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
         report.wall_seconds > 0
             ? (report.fluid_particles + report.boundary_particles) * report.timed_steps / report.wall_seconds
             : 0.0;
-    if (report.has_grains && report.has_permeability) {
+    if (!scene.grains.empty() && report.has_permeability) {
       double speed = 0, diameter = 0;
       for (int d = 0; d < Dim; ++d) speed += report.superficial_velocity[d] * report.superficial_velocity[d];
       for (const auto& g : scene.grains) diameter += 2 * g.radius / scene.grains.size();
@@ -301,12 +306,12 @@ JsonObject RunReport::to_json() const {
   json.add("warnings", warnings);
   if (restarted_from_step >= 0) json.add("restarted_from_step", restarted_from_step);
   json.add("porosity", porosity);
-  if (has_grains) {
+  if (has_solid) {
     json.add("particles_inside_grains", particles_inside_grains)
         .add("max_grain_penetration", max_grain_penetration)
         .add("grain_surface_corrections", grain_surface_corrections)
         .add("max_corrected_depth", max_corrected_depth);
-    if (has_permeability) json.add("reynolds_number", reynolds_number);
+    if (has_permeability && reynolds_number > 0) json.add("reynolds_number", reynolds_number);
   }
   return json;
 }

@@ -74,9 +74,9 @@ struct RunReport {
   bool steady = false;                  // every driven run reached the steady-state tolerance
   double steady_relative_change = 0;    // of k over the last span compared (worst over runs)
   double steady_remaining_change = 0;   // predicted change of k still to come (worst over runs)
-  bool has_grains = false;
+  bool has_solid = false;               // grains or an image
   double porosity = 1.0;
-  double reynolds_number = 0;           // mean pore velocity x mean grain diameter / nu
+  double reynolds_number = 0;           // mean pore velocity x mean grain diameter / nu; 0: no grains
   long long particles_inside_grains = 0;     // most fluid particles found inside grains at any check
   double max_grain_penetration = 0;     // deepest of them at any check, in particle spacings
   // Fluid particles put back on a grain surface after a step (GrainContact.hpp),

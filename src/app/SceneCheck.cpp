@@ -52,7 +52,7 @@ struct SlotBytes {
 };
 SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   const int D = s.dimension;
-  const bool surfaces = s.walls != WallType::None || !s.grains.empty();
+  const bool surfaces = s.walls != WallType::None || s.has_solid();
   const bool shifting = s.shifting_coefficient > 0;
   // x, v, x_start, v_start, dvdt; rho, p, m, pressure_term, inverse_density, rho_start, drhodt; kind; id.
   double fields = 5.0 * D * 8 + 7 * 8 + 4 + 8;
@@ -67,10 +67,10 @@ SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   if (s.particle_motion == ParticleMotion::Fixed) list += pairs * (D + 1) * 8.0;
   const double sums = std::max(1, threads) * (D + 1.0 + (shifting ? D + 1.0 : 0.0)) * 8;
   const double cells = 2 * 4;
-  // SeedParticle (x, v, wall_vector, wall_scalar, id, kind) and, with
-  // grains, the owner, depth and offset of every lattice point.
+  // SeedParticle (x, v, wall_vector, wall_scalar, id, kind) and, with a
+  // solid, every lattice point's mark (kind, surface) and depth.
   double seeds = (3.0 * D + 2) * 8 + 8;
-  if (!s.grains.empty()) seeds += 4 + 8 + 8.0 * D;
+  if (s.has_solid()) seeds += 4 + 8.0 * (D + 2);
   const double run = fields + list + sums + cells;
   return {run, fields + seeds};
 }
@@ -166,12 +166,6 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
     refuse("Run/Backend = openmp, but this build's Kokkos has no OpenMP backend (Debian's is Serial only); "
            "build one with scripts/build-trilinos-openmp.sh and configure with cmake --preset openmp");
 #endif
-  // Read and checked by now, but nothing fills the lattice from voxels yet:
-  // a run would be of the empty cell.
-  if (scene.image.voxels)
-    refuse("Image/File '", scene.image.file,
-           "' is read and checked, but PoreSPH does not simulate images yet (issue 16): the lattice is not filled "
-           "from voxels; describe the solid with Grains");
   try {
     e.derived = derive_parameters(scene);
     // The paper's process grid must match the number of processes (RCB fits any).
@@ -194,7 +188,7 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
     // A throat a coarser level cannot resolve would carry no flow there; its
     // warnings (under three spacings) are the coarse levels' lot and not repeated.
     try {
-      check_throats(level.grains, level);
+      check_pores(level);
     } catch (const std::invalid_argument& error) {
       std::ostringstream msg;
       msg << "Convergence/Levels: level " << l + 1 << " of " << spacings.size() << " (spacing " << spacings[l]
@@ -226,6 +220,9 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   // a View, copies it to the host and splits it into the written arrays.
   const double grid_per_process = static_cast<double>(e.grid_nodes) / ranks * (3.0 * (D + 2) + 5) * 8;
   e.bytes_per_process = std::max(slots * slot.run + grid_per_process, owned * slot.setup + slots * slot.run / 2);
+  // Every process holds the whole image: its values (2 bytes a voxel) and
+  // its distance field, on the host and in the kernels' memory (4 + 4).
+  if (scene.image.voxels) e.bytes_per_process += 10.0 * static_cast<double>(scene.image.voxels->count());
   // A warm start holds the stage before it while it sets up: the next
   // coarser level, or the finest level itself for the Darcy check.
   if (scene.linearity_check) e.bytes_per_process *= 2;

@@ -150,7 +150,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
       space_(space),
       comm_(comm),
       derived_(derive_parameters(scene)),
-      particles_(scene.walls != WallType::None || !scene.grains.empty(), lagrangian_shifting(scene)),
+      particles_(scene.walls != WallType::None || scene.has_solid(), lagrangian_shifting(scene)),
       kernel_(derived_.smoothing_length),
       pair_sums_(RateComponents<Dim>::count(lagrangian_shifting(scene))) {
   if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
@@ -197,7 +197,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   extrapolate_walls_ = particles_.has_surfaces && scene.wall_pressure == WallPressure::Extrapolated;
   pair_options_.wall_continuity = !extrapolate_walls_;
   check_grains(scene.grains, scene);
-  if (!scene.grains.empty()) grain_map_ = make_grain_map<Dim, MemorySpace>(scene, kernel_.cutoff);
+  solid_map_ = make_solid_map<Dim, MemorySpace>(scene, kernel_.cutoff);
 
   const double h = derived_.smoothing_length, dt = derived_.time_step;
   health_limits_ = HealthLimits{scene.density, scene.density_variation_limit, 0.25 * h / dt, h / (16 * dt * dt)};
@@ -278,8 +278,8 @@ void Simulation<Dim, ExecSpace>::step() {
   compute_rates();
   correct_full_step(space_, particles_, dt, !fixed_, fluid_.separate_wall_drag);
   if (particles_.has_shifting) apply_shifting(space_, particles_);
-  if (!fixed_ && !grain_map_.empty()) {
-    const auto pushed = fluid_in_grains(space_, particles_, grain_map_, true, 1e-6 * scene_.particle_spacing);
+  if (!fixed_ && !solid_map_.empty()) {
+    const auto pushed = fluid_in_grains(space_, particles_, solid_map_, true, 1e-6 * scene_.particle_spacing);
     surface_corrections_ += pushed.particles;
     deepest_correction_ = std::max(deepest_correction_, pushed.max_depth);
   }
@@ -419,7 +419,7 @@ GridBlock<Dim> Simulation<Dim, ExecSpace>::interpolate_to_grid(const std::vector
   }
   Kokkos::View<double**, MemorySpace> grid("grid_values", block.nodes(), Dim + 2);
   if (block.nodes() > 0)
-    poresph::interpolate_to_grid(space_, particles_, neighbourhood_.cells(), kernel_, grain_map_, block, grid);
+    poresph::interpolate_to_grid(space_, particles_, neighbourhood_.cells(), kernel_, solid_map_, block, grid);
   space_.fence();
   auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), grid);
   values.assign(host.data(), host.data() + host.size());
@@ -455,9 +455,9 @@ template <int Dim, class ExecSpace>
 Kokkos::View<int*, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>::grain_ids() const {
   Kokkos::View<int*, MemorySpace> ids("grain_ids", particles_.owned);
   Kokkos::deep_copy(space_, ids, -1);
-  if (grain_map_.empty()) return ids;
+  if (!solid_map_.has_grains) return ids;
   const auto Q = particles_;
-  const auto map = grain_map_;
+  const auto map = solid_map_.grains;
   const double tolerance = 1e-6 * scene_.particle_spacing;
   static const std::string label_grain_ids = "poresph::grain_ids";
   Kokkos::parallel_for(
@@ -515,7 +515,7 @@ Vec<Dim> Simulation<Dim, ExecSpace>::superficial_velocity() const {
 
 template <int Dim, class ExecSpace>
 GrainPenetration Simulation<Dim, ExecSpace>::fluid_inside_grains() const {
-  auto result = fluid_in_grains(space_, particles_, grain_map_, false, 0.0);
+  auto result = fluid_in_grains(space_, particles_, solid_map_, false, 0.0);
   result.particles = comm_.sum(result.particles);
   result.max_depth = comm_.max(result.max_depth);
   return result;

@@ -14,7 +14,7 @@
 #include "core/Kernel.hpp"
 #include "core/Particles.hpp"
 #include "core/Vec.hpp"
-#include "geometry/GrainMap.hpp"
+#include "geometry/Solid.hpp"
 #include "diagnostics/Health.hpp"
 #include "io/SceneConfig.hpp"
 #include "parallel/Communicator.hpp"
@@ -169,7 +169,7 @@ class Simulation {
   WallNeighbours<Dim, ExecSpace> wall_neighbours_;  // with an extrapolated wall pressure
   PairSums<ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
   Vec<Dim> body_force_;
-  GrainMap<Dim, MemorySpace> grain_map_;
+  SolidMap<Dim, MemorySpace> solid_map_;
   long long surface_corrections_ = 0;  // on this process
   double deepest_correction_ = 0.0;
   FluidProperties fluid_;

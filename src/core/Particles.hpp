@@ -14,6 +14,11 @@ enum ParticleKind : int {
   kFluid = 0,
   kWallBoundary = 1,   // plane wall: wall_vector = unit normal into the fluid, wall_scalar = depth below the wall
   kGrainBoundary = 2,  // grain: wall_vector = position minus grain centre, wall_scalar = grain radius
+  // A surface known only by its distance field (an image): wall_vector =
+  // unit normal into the fluid, wall_scalar = depth, as for a plane wall;
+  // fixed fluid particles near it carry their own normal and distance to it
+  // in their wall_vector and wall_scalar (physics/NoSlip.hpp).
+  kSampledBoundary = 3,
 };
 
 template <int Dim, class MemorySpace>

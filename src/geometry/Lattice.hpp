@@ -14,6 +14,7 @@
 
 #include "core/Kernel.hpp"
 #include "core/Particles.hpp"
+#include "geometry/Solid.hpp"
 #include "io/SceneConfig.hpp"
 
 namespace poresph {
@@ -58,11 +59,9 @@ inline int boundary_layers(double dx, double h) {
   return static_cast<int>(std::floor(kSupportRadiusInH * h / dx - 0.5 + 1e-9)) + 1;
 }
 
-// Fills the lattice: fluid wherever a point is outside every grain; boundary
-// particles in each grain's shell r - 3h <= |x - c| <= r and in the channel
-// walls; nothing deeper inside a grain. Grains are scanned over their
-// bounding boxes (periodically wrapped), so the cost grows with the solid
-// volume, not with grains x lattice points.
+// Fills the lattice: fluid wherever a point is outside the solid; boundary
+// particles in the solid's shell, 3h deep below its surface
+// (geometry/Solid.hpp), and in the channel walls; nothing deeper.
 template <int Dim>
 std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene, const double (&lo)[Dim], const double (&hi)[Dim]);
 
@@ -103,84 +102,31 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene, const doub
     for (int d = Dim - 1; d >= 0; --d) k = k * count[d] + (index[d] - first[d]);
     return k;
   };
-  int local_first[Dim], local_count[Dim];
-  long long total = 1;
+  LatticeBlock<Dim> block;
+  block.dx = dx;
+  block.shell = shell;
+  block.on_surface = on_surface;
+  block.total = 1;
   for (int d = 0; d < Dim; ++d) {
+    block.first[d] = first[d];
+    block.count[d] = count[d];
     const double a = std::max(lo[d], (first[d] - 1.0) * dx), b = std::min(hi[d], (first[d] + count[d] + 1.0) * dx);
     const int begin = std::max(first[d], static_cast<int>(std::ceil(a / dx - 0.5)));
     const int end = std::min(first[d] + count[d], static_cast<int>(std::ceil(b / dx - 0.5)));
-    local_first[d] = begin;
-    local_count[d] = std::max(0, end - begin);
-    total *= local_count[d];  // bounded by the whole lattice's count, checked above
+    block.local_first[d] = begin;
+    block.local_count[d] = std::max(0, end - begin);
+    block.total *= block.local_count[d];  // bounded by the whole lattice's count, checked above
   }
-  auto flat_index = [&](const int (&index)[Dim]) {
-    long long k = 0;
-    for (int d = Dim - 1; d >= 0; --d) k = k * local_count[d] + (index[d] - local_first[d]);
-    return k;
-  };
-  auto in_local = [&](const int (&index)[Dim]) {
-    for (int d = 0; d < Dim; ++d)
-      if (index[d] < local_first[d] || index[d] >= local_first[d] + local_count[d]) return false;
-    return true;
-  };
-
-  // Grain shells: for each lattice point the grain whose surface is nearest
-  // (overlapping grains), or "deep" if it lies beyond the shell of any grain.
-  constexpr int kNone = -1, kDeep = -2;
-  std::vector<int> owner(scene.grains.empty() ? 0 : total, kNone);
-  std::vector<double> depth(owner.size(), 0.0);
-  std::vector<std::array<double, Dim>> offset(owner.size());
-  for (int g = 0; g < static_cast<int>(scene.grains.size()); ++g) {
-    const Grain& grain = scene.grains[g];
-    int box_lo[Dim], box_hi[Dim];
-    long long box = 1;
-    for (int d = 0; d < Dim; ++d) {
-      box_lo[d] = static_cast<int>(std::floor((grain.centre[d] - grain.radius) / dx - 0.5));
-      box_hi[d] = static_cast<int>(std::ceil((grain.centre[d] + grain.radius) / dx - 0.5));
-      box *= box_hi[d] - box_lo[d] + 1;
-    }
-    for (long long b = 0; b < box; ++b) {
-      int unwrapped[Dim], index[Dim];
-      long long rest = b;
-      bool inside_lattice = true;
-      double dist_sq = 0;
-      std::array<double, Dim> from_centre{};
-      for (int d = 0; d < Dim; ++d) {
-        const int span = box_hi[d] - box_lo[d] + 1;
-        unwrapped[d] = box_lo[d] + static_cast<int>(rest % span);
-        rest /= span;
-        from_centre[d] = (unwrapped[d] + 0.5) * dx - grain.centre[d];
-        dist_sq += from_centre[d] * from_centre[d];
-        if (scene.periodic[d]) {
-          const int n = count[d];
-          index[d] = ((unwrapped[d] % n) + n) % n;
-        } else {
-          index[d] = unwrapped[d];
-          inside_lattice = inside_lattice && index[d] >= first[d] && index[d] < first[d] + count[d];
-        }
-      }
-      if (!inside_lattice || !in_local(index)) continue;
-      const double dist = std::sqrt(dist_sq);
-      if (dist > grain.radius + on_surface) continue;
-      const long long k = flat_index(index);
-      const double below_surface = grain.radius - dist;
-      if (below_surface > shell + on_surface) owner[k] = kDeep;
-      else if (owner[k] != kDeep && (owner[k] == kNone || below_surface < depth[k])) {
-        owner[k] = g;
-        depth[k] = below_surface;
-        offset[k] = from_centre;
-      }
-    }
-  }
+  const std::vector<SolidMark<Dim>> marks = mark_solid(scene, block);
 
   std::vector<SeedParticle<Dim>> seeds;
-  seeds.reserve(static_cast<size_t>(total));
-  for (long long flat = 0; flat < total; ++flat) {
+  seeds.reserve(static_cast<size_t>(block.total));
+  for (long long flat = 0; flat < block.total; ++flat) {
     int index[Dim];
     long long rest = flat;
     for (int d = 0; d < Dim; ++d) {
-      index[d] = local_first[d] + static_cast<int>(rest % local_count[d]);
-      rest /= local_count[d];
+      index[d] = block.local_first[d] + static_cast<int>(rest % block.local_count[d]);
+      rest /= block.local_count[d];
     }
     SeedParticle<Dim> s{};
     for (int d = 0; d < Dim; ++d) s.x[d] = (index[d] + 0.5) * dx;
@@ -192,12 +138,13 @@ std::vector<SeedParticle<Dim>> fill_lattice(const SceneConfig& scene, const doub
       s.wall_vector[1] = lower ? 1.0 : -1.0;
       s.wall_scalar = lower ? -s.x[1] : s.x[1] - scene.cell_size[1];
       s.v[0] = lower ? scene.lower_wall_velocity : scene.upper_wall_velocity;
-    } else if (!owner.empty() && owner[flat] == kDeep) {
+    } else if (!marks.empty() && marks[flat].kind == SolidMark<Dim>::kBuried) {
       continue;
-    } else if (!owner.empty() && owner[flat] >= 0) {
-      s.kind = kGrainBoundary;
-      for (int d = 0; d < Dim; ++d) s.wall_vector[d] = offset[flat][d];
-      s.wall_scalar = scene.grains[owner[flat]].radius;
+    } else if (!marks.empty()) {  // a boundary particle's surface, or a fluid particle's own
+      const auto& mark = marks[flat];
+      s.kind = mark.kind;
+      for (int d = 0; d < Dim; ++d) s.wall_vector[d] = mark.wall_vector[d];
+      s.wall_scalar = mark.wall_scalar;
     }
     seeds.push_back(s);
   }

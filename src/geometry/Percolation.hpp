@@ -19,4 +19,18 @@ namespace poresph {
 bool pore_percolates(const VoxelImage& image, const std::vector<int>& solid_values, int axis,
                      const std::array<bool, 3>& periodic);
 
+// The same for any voxels marked open (non-zero), x fastest.
+bool open_percolates(const std::array<long long, 3>& shape, int dimension, const std::vector<char>& open, int axis,
+                     const std::array<bool, 3>& periodic);
+
+// The width of the widest path through the pore along `axis` at its
+// narrowest point: twice the largest distance t (from `distance`, the
+// signed distance to the solid at the voxel centres) such that the voxels
+// at least t from the solid still percolate. Measured between voxel
+// centres, it is the bottleneck's width to within one voxel, from below
+// (a gap of n voxels reads n when n is odd, n - 1 when even). 0 when the
+// pore does not percolate.
+double widest_path_width(const std::vector<double>& distance, const std::array<long long, 3>& shape, int dimension,
+                         int axis, const std::array<bool, 3>& periodic);
+
 }  // namespace poresph

@@ -72,6 +72,22 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
                 static_cast<unsigned long long>(row_checksum(grains.data(), static_cast<long long>(grains.size()),
                                                              1, 0)));
   entries.emplace_back("Grains", std::to_string(scene.grains.size()) + " grains, checksum " + checksum);
+  // The image by its shape, voxel size, solid values and a checksum of its
+  // voxels (after Image/Mirror): another image, or the same read otherwise,
+  // is another solid.
+  if (scene.image.voxels) {
+    const auto& voxels = *scene.image.voxels;
+    std::vector<std::uint16_t> solid(voxels.values.size());
+    std::vector<char> is_solid(1 << 16, 0);
+    for (int v : scene.image.solid_values)
+      if (v >= 0 && v < (1 << 16)) is_solid[v] = 1;
+    for (size_t n = 0; n < solid.size(); ++n) solid[n] = is_solid[voxels.values[n]];
+    std::snprintf(checksum, sizeof checksum, "%016llx",
+                  static_cast<unsigned long long>(
+                      row_checksum(solid.data(), static_cast<long long>(solid.size()), 1, 0)));
+    entries.emplace_back("Image", shape_text(voxels) + " voxels of " + number(scene.image.voxel_size) +
+                                      ", solid voxels checksum " + checksum);
+  }
   std::string text;
   for (const auto& [name, value] : entries) text += name + " = " + value + "\n";
   return text;

@@ -1,8 +1,10 @@
 #include "io/Parameters.hpp"
 
+#include "geometry/DistanceTransform.hpp"
 #include "geometry/Grains.hpp"
 #include "geometry/Percolation.hpp"
 #include "geometry/RandomPack.hpp"
+#include "geometry/Solid.hpp"
 #include "io/ImageReader.hpp"
 
 #include <Teuchos_Array.hpp>
@@ -107,7 +109,7 @@ RCP<ParameterList> make_valid_parameters() {
           real_in(0.0, kHuge));
     s.set("Spacings Across Throat", 0.0,
           "Instead of Particle Spacing: the spacing is the narrowest pore throat between grains (the gap the "
-          "throat check measures) divided by this, made a little finer so that the cell holds a whole number "
+          "throat check measures), or the width an image's widest pore path narrows to, divided by this, made a little finer so that the cell holds a whole number "
           "of spacings. Resolution where the flow is decided. 0: not used.",
           real_in(0.0, 1e6));
     s.set("Particle Motion", std::string("fixed"),
@@ -453,21 +455,16 @@ void check_types(const ParameterList& list, const ParameterList& valid, const st
   }
 }
 
-// Discretization/Spacings Across Throat = n: the narrowest open throat
-// divided by n, rounded down to the largest spacing that fits every cell
-// side a whole number of times (searched up to twice the count).
+// Discretization/Spacings Across Throat = n: the narrowest pore (an open
+// throat between grains, an image's bottleneck) divided by n, rounded down
+// to the largest spacing that fits every cell side a whole number of times
+// (searched up to twice the count).
 double spacing_across_throat(const SceneConfig& scene, double n) {
-  double largest_side = 0;
-  for (int d = 0; d < scene.dimension; ++d) largest_side = std::max(largest_side, scene.cell_size[d]);
-  // The narrowest throat, searched among ever wider gaps: grains are binned
-  // by the gap asked for, so a small one keeps the search linear.
-  ThroatSurvey survey;
-  for (double widest = largest_side * 1e-3; survey.narrowest.empty() && widest < 4 * largest_side; widest *= 4)
-    survey = narrow_throats(scene.grains, scene, widest, 1);
-  if (survey.narrowest.empty())
-    throw ParameterError("Discretization/Spacings Across Throat needs a pore throat between grains, and this scene "
-                         "has none (no grains, or none with an open gap): give Discretization/Particle Spacing");
-  const double gap = survey.narrowest.front().gap;
+  const double gap = narrowest_pore(scene);
+  if (!(gap > 0))
+    throw ParameterError("Discretization/Spacings Across Throat needs a pore throat (between grains, or an image's "
+                         "bottleneck), and this scene has none (no solid, or no open gap): give "
+                         "Discretization/Particle Spacing");
   const long long first = static_cast<long long>(std::ceil(scene.cell_size[0] * n / gap - 1e-9));
   for (long long count = std::max(1LL, first); count <= 2 * first + 2; ++count) {
     const double dx = scene.cell_size[0] / count;
@@ -520,9 +517,6 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   if (!grains.get<std::string>("File").empty() || !grains.get<Array<double>>("Inline").empty() ||
       grains.sublist("Random Pack").get<double>("Porosity") > 0)
     throw ParameterError("Image/File and Grains describe the solid both: a scene uses one of them");
-  if (list.sublist("Discretization").get<double>("Spacings Across Throat") > 0)
-    throw ParameterError("Discretization/Spacings Across Throat measures the throats between grains, not yet an "
-                         "image's: give Discretization/Particle Spacing");
   if (solid_values.empty()) throw ParameterError("Image/Solid Values is required with Image/File");
   if (!(voxel_size > 0)) throw ParameterError("Image/Voxel Size is required with Image/File (a positive length)");
   if (file[0] != '/' && !scene_directory.empty()) file = scene_directory + "/" + file;
@@ -604,6 +598,15 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
                            "that way, so no flow gets through. Check Image/Solid Values " +
                            list_text(scene.image.solid_values));
   }
+  // The walls the fluid sees: the distance to a surface found between the
+  // voxels; the driven axes' bottlenecks from the voxels' own distance.
+  const auto staircase = signed_distance(voxels, scene.image.solid_values, voxel_size, scene.periodic);
+  for (int axis = 0; axis < scene.dimension; ++axis)
+    if (tensor || scene.body_force[axis] != 0)
+      scene.image.bottleneck[axis] =
+          widest_path_width(staircase, voxels.shape, voxels.dimension, axis, scene.periodic);
+  scene.image.distance = std::make_shared<const std::vector<float>>(
+      surface_distance(voxels, scene.image.solid_values, voxel_size, scene.periodic));
   scene.image.file = file;
   scene.image.voxel_size = voxel_size;
   scene.image.voxels = std::make_shared<const VoxelImage>(std::move(voxels));
@@ -838,7 +841,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
     }
     check_grains(scene.grains, scene);
     if (across_throat > 0) scene.particle_spacing = spacing_across_throat(scene, across_throat);
-    const auto throats = check_throats(scene.grains, scene);
+    const auto throats = check_pores(scene);
     scene.warnings.insert(scene.warnings.end(), throats.begin(), throats.end());
   } catch (const std::invalid_argument& e) {
     throw ParameterError(e.what());

@@ -28,6 +28,12 @@ struct ImageConfig {
   // every level of the resolution ladder, the volume need not be.
   std::shared_ptr<const VoxelImage> voxels;
   VoxelCounts counts;
+  // The signed distance to the solid's surface at the voxel centres (m),
+  // made once from the voxels (surface_distance, geometry/DistanceTransform.hpp).
+  std::shared_ptr<const std::vector<float>> distance;
+  // Per axis the image is driven along: the width (m) its widest pore path
+  // that way narrows to, from the distance field (0: not driven that way).
+  std::array<double, 3> bottleneck{};
 };
 
 enum class ProgressMode { Auto, Always, Never };
@@ -79,6 +85,8 @@ struct SceneConfig {
   std::string grains_note;
   // Image/File was given: the solid is these voxels (no grains).
   ImageConfig image;
+  // A solid in the cell, whichever describes it (geometry/Solid.hpp).
+  bool has_solid() const { return !grains.empty() || image.voxels != nullptr; }
   // What the checks of the input found worth saying but not refusing (narrow throats).
   std::vector<std::string> warnings;
 

@@ -9,7 +9,7 @@
 
 #include "core/Math.hpp"
 #include "core/Particles.hpp"
-#include "geometry/GrainMap.hpp"
+#include "geometry/Solid.hpp"
 
 namespace poresph {
 
@@ -17,28 +17,6 @@ struct GrainPenetration {
   long long particles = 0;  // fluid particles found inside a grain
   double max_depth = 0;     // deepest of them below the surface
 };
-
-// The grain x lies deepest inside (-1 if none), its depth below the surface,
-// and the unit outward normal there.
-template <int Dim, class MemorySpace>
-KOKKOS_INLINE_FUNCTION int deepest_grain(const GrainMap<Dim, MemorySpace>& map, const double* x, double& depth,
-                                         double* normal) {
-  int deepest = -1;
-  depth = 0;
-  map.for_each_grain_near(x, [&](int g) {
-    double r[Dim], dist_sq = 0;
-    map.offset_from_centre(x, g, r);
-    for (int d = 0; d < Dim; ++d) dist_sq += r[d] * r[d];
-    const double radius = map.grains(g, Dim);
-    if (dist_sq >= radius * radius || dist_sq == 0) return;  // outside (or at the centre: no normal)
-    const double dist = math::sqrt(dist_sq);
-    if (radius - dist <= depth) return;
-    deepest = g;
-    depth = radius - dist;
-    for (int d = 0; d < Dim; ++d) normal[d] = r[d] / dist;
-  });
-  return deepest;
-}
 
 // Moves a penetrating particle to just outside the surface along the normal
 // and removes the inward normal velocity.
@@ -54,10 +32,11 @@ KOKKOS_INLINE_FUNCTION void push_out_of_grain(double* x, double* v, const double
     for (int d = 0; d < Dim; ++d) v[d] -= inward * normal[d];
 }
 
-// Counts owned fluid particles inside grains; with `correct`, also pushes them out.
+// Counts owned fluid particles inside the solid (grains or image); with
+// `correct`, also pushes them out.
 template <int Dim, class ExecSpace>
 GrainPenetration fluid_in_grains(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                                 const GrainMap<Dim, typename ExecSpace::memory_space>& map, bool correct,
+                                 const SolidMap<Dim, typename ExecSpace::memory_space>& map, bool correct,
                                  double clearance) {
   GrainPenetration result;
   if (map.empty()) return result;
@@ -71,7 +50,7 @@ GrainPenetration fluid_in_grains(const ExecSpace& space, const Particles<Dim, ty
         if (Q.kind(i) != kFluid) return;
         double x[Dim], normal[Dim], depth;
         for (int d = 0; d < Dim; ++d) x[d] = Q.x(i, d);
-        if (deepest_grain(map, x, depth, normal) < 0) return;
+        if (map.deepest(x, depth, normal) < 0) return;
         ++count;
         if (depth > deepest) deepest = depth;
         if (!correct) return;

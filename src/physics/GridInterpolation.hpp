@@ -4,7 +4,7 @@
 // with the SPH kernel and Shepard's normalisation,
 //   f(x) = sum_j (m_j/rho_j) f_j W(x - x_j) / sum_j (m_j/rho_j) W(x - x_j),
 // which keeps a uniform field exact next to grains, where the kernel support
-// is only partly filled with fluid. Nodes inside a grain are solid: zero
+// is only partly filled with fluid. Nodes inside the solid are solid: zero
 // velocity and pressure, and solid = 1.
 #include <Kokkos_Core.hpp>
 
@@ -13,8 +13,7 @@
 #include "core/Math.hpp"
 #include "core/Particles.hpp"
 #include "core/Vec.hpp"
-#include "geometry/GrainMap.hpp"
-#include "physics/GrainContact.hpp"
+#include "geometry/Solid.hpp"
 
 namespace poresph {
 
@@ -68,10 +67,10 @@ KOKKOS_INLINE_FUNCTION bool shepard_fluid_at(const ParticleArrays& Q, const Cell
 template <int Dim, class ExecSpace>
 void interpolate_to_grid(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
                          const CellList<Dim, ExecSpace>& cells, const QuinticKernel<Dim>& kernel,
-                         const GrainMap<Dim, typename ExecSpace::memory_space>& grains, const GridBlock<Dim>& block,
+                         const SolidMap<Dim, typename ExecSpace::memory_space>& solid, const GridBlock<Dim>& block,
                          const Kokkos::View<double**, typename ExecSpace::memory_space>& values) {
   const auto Q = P;
-  const bool has_grains = !grains.empty();
+  const bool has_solid = !solid.empty();
   static const std::string label_interpolate_to_grid = "poresph::interpolate_to_grid";
   Kokkos::parallel_for(
       label_interpolate_to_grid, Kokkos::RangePolicy<ExecSpace>(space, 0, block.nodes()),
@@ -79,7 +78,7 @@ void interpolate_to_grid(const ExecSpace& space, const Particles<Dim, typename E
         const Vec<Dim> x = block.position(node);
         for (int c = 0; c < Dim + 2; ++c) values(node, c) = 0.0;
         double depth, normal[Dim];
-        if (has_grains && deepest_grain(grains, x.c, depth, normal) >= 0) {
+        if (has_solid && solid.deepest(x.c, depth, normal) >= 0) {
           values(node, Dim + 1) = 1.0;
           return;
         }

@@ -152,15 +152,22 @@ struct PairRates {
 
   // The no-slip factor 1 + d_B / d_a of a boundary particle `other` seen at
   // separation r (physics/NoSlip.hpp); 1 for a fluid particle.
-  KOKKOS_FORCEINLINE_FUNCTION double viscous_factor(const PairEnd<Dim>& other, const Vec<Dim>& r) const {
+  KOKKOS_FORCEINLINE_FUNCTION double viscous_factor(const PairEnd<Dim>& self, const PairEnd<Dim>& other,
+                                                    const Vec<Dim>& r) const {
     if constexpr (WithSurfaces) {
       if (other.kind != kFluid) {
-        const SurfaceDistances<Dim> s = surface_distances<Dim>(other.kind, row<Dim>(P.wall_vector, other.index),
-                                                               P.wall_scalar(other.index), r);
+        Vec<Dim> normal_self{};  // self's own surface: read for a sampled one only
+        double distance_self = 0.0;
+        if (other.kind == kSampledBoundary) {
+          normal_self = row<Dim>(P.wall_vector, self.index);
+          distance_self = P.wall_scalar(self.index);
+        }
+        const SurfaceDistances<Dim> s = surface_distances<Dim>(
+            other.kind, row<Dim>(P.wall_vector, other.index), P.wall_scalar(other.index), r, normal_self, distance_self);
         return no_slip_factor(s, fluid.min_surface_distance);
       }
     }
-    (void)other, (void)r;
+    (void)self, (void)other, (void)r;
     return 1.0;
   }
 
@@ -173,7 +180,7 @@ struct PairRates {
     const Vec<Dim> r = sign * t.r, v = sign * t.v;
     // v as self sees it: for a boundary neighbour, the fluid velocity
     // relative to the wall's continued linearly into the solid.
-    const double factor = viscous_factor(other, r);
+    const double factor = viscous_factor(self, other, r);
     const Vec<Dim> v_seen = factor * v;
     Vec<Dim> acceleration = (other.m * sign) * t.pressure;
     if (WithSurfaces && !WithShifting && fluid.separate_wall_drag && other.kind != kFluid) {

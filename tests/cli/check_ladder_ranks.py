@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """The resolution ladder on 1, 2 and 4 processes (issue 17): the square
-array c = 0.5 with three levels ending at dx = 0.01 L, and the simple cubic
-array of spheres (input/3d) with two levels ending at 16 particles per
-side. Every level's k and step count must agree with one process's: to
-1e-10 (sums in another order) and exactly.
+array c = 0.5 with three levels ending at dx = 0.01 L, from its grain and
+from an image of it (perf/rasterise.py, four voxels a spacing of the finest
+level), and the simple cubic array of spheres (input/3d) with two levels
+ending at 16 particles per side. Every level's k and step count must agree
+with one process's: to 1e-10 (sums in another order) and exactly.
 
     check_ladder_ranks.py POREPSH_BINARY INPUT_DIR WORK_DIR
 """
@@ -15,8 +16,14 @@ import sys
 poresph, inputs, work = sys.argv[1:4]
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1", OMP_NUM_THREADS="1")
+# The image of the square array, beside the other runs' directories.
+image_dir = os.path.join(work, "ladder-image")
+subprocess.run([sys.executable, os.path.join(os.path.dirname(inputs), "perf", "rasterise.py"),
+                os.path.join(inputs, "square_array", "square_array_c50.xml"), "--voxels-per-spacing", "4",
+                "--format", "raw", "--output", image_dir], check=True, stdout=subprocess.DEVNULL)
 CASES = [
     ("square array c = 0.5", ["square_array", "square_array_c50.xml"], ["Convergence/Levels=3"], 3),
+    ("square array c = 0.5, image", [image_dir, "image.xml"], ["Convergence/Levels=3"], 3),
     ("simple cubic, 3D", ["3d", "simple_cubic.xml"],
      ["Convergence/Levels=2", "Discretization/Particle Spacing=0.00625"], 2),
 ]
@@ -24,7 +31,7 @@ failures = 0
 for name, scene, settings, count in CASES:
     levels = {}
     for ranks in (1, 2, 4):
-        out = os.path.join(work, f"ladder-{scene[0]}-{ranks}")
+        out = os.path.join(work, f"ladder-{os.path.basename(scene[0])}-{ranks}")
         command = ["mpiexec", "-n", str(ranks), poresph, os.path.join(inputs, *scene)]
         for setting in settings + ["Run/Progress=never"]:
             command += ["--set", setting]
