@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 
 namespace poresph::testing {
 

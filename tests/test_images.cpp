@@ -630,29 +630,50 @@ TEST_F(ImageParameters, RequiredAndOrphanedValuesAreNamed) {
   EXPECT_MENTIONS(scene_error(beyond_8_bits), "300 cannot occur");
 }
 
-// The pore check of an image: the widest pore path along the driven axis
-// (x) must pass the one solid voxel, (2, 0), through the row above it,
-// whose centres are half a voxel from the solid: 0.1 m wide at its
+// A slit one voxel wide carries flow in the voxels, but the walls placed
+// between the voxels close it: refused, saying so, rather than run with the
+// flow lost.
+TEST_F(ImageParameters, OneVoxelGapsThatCloseBetweenTheWallsAreRefused) {
+  const auto raw = folder + "/slit.raw";
+  write_bytes(raw, {6, 6, 6, 0, 0, 0, 6, 6, 6});  // 3 x 3 voxels: one row of pore
+  auto list = image_scene(raw);
+  list.sublist("Domain").set("Cell Size", array<double>({0.3, 0.3}));
+  list.sublist("Image").set("Shape", array<int>({3, 3}));
+  EXPECT_MENTIONS(scene_error(list), "close when the walls are placed between the voxels");
+}
+
+// The pore check of an image: a band of pore five voxels wide between
+// bands of solid three wide (periodic), along x. The walls fall on the
+// voxel faces, and the widest path along x is the band: 0.5 m wide at its
 // narrowest. Spacings Across Throat divides that width.
 TEST_F(ImageParameters, NarrowestPoreIsTheWidestPathsBottleneck) {
-  auto across = image_scene(png);
+  const auto raw = folder + "/band.raw";
+  std::vector<unsigned char> band;
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 6; ++i) band.push_back(j < 3 ? 6 : 0);
+  write_bytes(raw, band);
+  auto banded = [&](double spacing) {
+    auto list = image_scene(raw);
+    list.sublist("Domain").set("Cell Size", array<double>({0.6, 0.8}));
+    list.sublist("Image").set("Shape", array<int>({6, 8}));
+    list.sublist("Discretization").set("Particle Spacing", spacing);
+    return list;
+  };
+  auto across = banded(0.0);
   across.sublist("Discretization").remove("Particle Spacing");
-  across.sublist("Discretization").set("Spacings Across Throat", 4.0);
+  across.sublist("Discretization").set("Spacings Across Throat", 5.0);
   validate_parameters(across);
   const auto scene = scene_from_parameters(across, folder);
-  EXPECT_DOUBLE_EQ(scene.image.bottleneck[0], 0.1);
+  EXPECT_NEAR(scene.image.bottleneck[0], 0.5, 1e-6);
   EXPECT_EQ(scene.image.bottleneck[1], 0.0);  // not driven along y
-  EXPECT_DOUBLE_EQ(scene.particle_spacing, 0.025);
+  EXPECT_NEAR(scene.particle_spacing, 0.1, 1e-12);
   EXPECT_TRUE(scene.warnings.empty());
-  auto under_three = image_scene(png);
-  under_three.sublist("Discretization").set("Particle Spacing", 0.05);
+  auto under_three = banded(0.2);
   validate_parameters(under_three);
   const auto warned = scene_from_parameters(under_three, folder);
   ASSERT_EQ(warned.warnings.size(), 1u);
-  EXPECT_MENTIONS(warned.warnings[0], "widest pore path along x narrows to 0.1 (1 voxels, 2 particle spacings)");
-  auto under_one = image_scene(png);
-  under_one.sublist("Discretization").set("Particle Spacing", 0.15);
-  EXPECT_MENTIONS(scene_error(under_one), "narrower than one spacing");
+  EXPECT_MENTIONS(warned.warnings[0], "widest pore path along x narrows to 0.5 (5 voxels, 2.5 particle spacings)");
+  EXPECT_MENTIONS(scene_error(banded(0.6)), "narrower than one spacing");
 }
 
 TEST_F(ImageParameters, AllSolidOrAllPoreIsRefused) {

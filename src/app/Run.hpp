@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "diagnostics/ChannelFlow.hpp"
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 #include "io/Summary.hpp"
 
 namespace poresph {

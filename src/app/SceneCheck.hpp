@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "app/Simulation.hpp"
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 
 namespace poresph {
 

@@ -16,7 +16,7 @@
 #include "core/Vec.hpp"
 #include "geometry/Solid.hpp"
 #include "diagnostics/Health.hpp"
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 #include "parallel/Communicator.hpp"
 #include "parallel/Decomposition.hpp"
 #include "parallel/Neighbourhood.hpp"

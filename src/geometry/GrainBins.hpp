@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 
 namespace poresph {
 

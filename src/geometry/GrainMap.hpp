@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/Math.hpp"
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 
 namespace poresph {
 

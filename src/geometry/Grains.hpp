@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 
 namespace poresph {
 

@@ -15,7 +15,7 @@
 #include "core/Kernel.hpp"
 #include "core/Particles.hpp"
 #include "geometry/Solid.hpp"
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 
 namespace poresph {
 

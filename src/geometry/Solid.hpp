@@ -23,7 +23,7 @@
 #include "core/Particles.hpp"
 #include "geometry/DistanceField.hpp"
 #include "geometry/GrainMap.hpp"
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 
 namespace poresph {
 

@@ -26,7 +26,7 @@
 #include "io/Checksum.hpp"
 #include "io/Hdf5File.hpp"
 #include "io/RunState.hpp"
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 #include "io/ViewRows.hpp"
 #include "parallel/Decomposition.hpp"
 

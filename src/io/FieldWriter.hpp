@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "io/Hdf5File.hpp"
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 #include "io/Summary.hpp"
 #include "io/ViewRows.hpp"
 #include "io/Xdmf.hpp"

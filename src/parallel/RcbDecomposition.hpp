@@ -1,7 +1,7 @@
 #pragma once
 // Recursive coordinate bisection of the unit cell by Zoltan2, weighted by
 // the particles each part will hold (grain interiors hold none).
-#include "io/SceneConfig.hpp"
+#include "scene/SceneConfig.hpp"
 #include "parallel/Communicator.hpp"
 #include "parallel/Decomposition.hpp"
 

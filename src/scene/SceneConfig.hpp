@@ -1,6 +1,8 @@
 #pragma once
 // A scene as the solver sees it: plain values, already validated. Only the
-// io layer knows about Teuchos; everything else reads this struct.
+// io layer knows about Teuchos and files; it fills this struct, which the
+// geometry, physics and app layers read (hence its own folder, below them
+// all but core).
 #include <array>
 #include <memory>
 #include <string>
