@@ -13,25 +13,14 @@
 #include "geometry/Lattice.hpp"
 #include "geometry/Percolation.hpp"
 #include "geometry/Solid.hpp"
+#include "VoxelSketch.hpp"
 
 namespace poresph {
 namespace {
 
 constexpr std::array<bool, 3> kPeriodic{{true, true, true}};
 
-// An image from rows of characters, top row first as displayed: '#' solid (1), '.' pore (0).
-VoxelImage sketch(std::initializer_list<const char*> rows) {
-  VoxelImage image;
-  image.shape = {static_cast<long long>(std::strlen(*rows.begin())), static_cast<long long>(rows.size()), 1};
-  image.values.resize(static_cast<size_t>(image.count()));
-  long long r = 0;
-  for (const char* row : rows) {
-    for (long long i = 0; i < image.shape[0]; ++i)
-      image.values[image.index(i, image.shape[1] - 1 - r)] = row[i] == '#' ? 1 : 0;
-    ++r;
-  }
-  return image;
-}
+using testing::sketch;
 
 // Between voxel centres the field is interpolated linearly (a linear field
 // exactly), and across a periodic face it joins the last voxel to the first.

@@ -25,6 +25,7 @@
 #include "io/ImageReader.hpp"
 #include "io/Parameters.hpp"
 #include "ErrorOf.hpp"
+#include "VoxelSketch.hpp"
 
 namespace poresph {
 namespace {
@@ -448,19 +449,7 @@ TEST(VoxelImage, SolidValuesSplitTheVoxels) {
   EXPECT_EQ(count_voxels(image, {3}).solid, 0);
 }
 
-// An image from rows of characters, top row first as displayed: '#' solid (1), '.' pore (0).
-VoxelImage sketch(std::initializer_list<const char*> rows) {
-  VoxelImage image;
-  image.shape = {static_cast<long long>(std::strlen(*rows.begin())), static_cast<long long>(rows.size()), 1};
-  image.values.resize(static_cast<size_t>(image.count()));
-  long long r = 0;
-  for (const char* row : rows) {
-    for (long long i = 0; i < image.shape[0]; ++i)
-      image.values[image.index(i, image.shape[1] - 1 - r)] = row[i] == '#' ? 1 : 0;
-    ++r;
-  }
-  return image;
-}
+using testing::sketch;
 
 constexpr std::array<bool, 3> kPeriodic{{true, true, true}};
 

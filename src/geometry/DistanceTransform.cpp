@@ -109,27 +109,40 @@ std::vector<double> signed_distance(const VoxelImage& image, const std::vector<i
   return distance;
 }
 
+namespace {
+
+// How a bounded axis is continued past its end voxels for an average.
+enum class Beyond { Slope, Repeat };
+
+// Every line of `values` along `axis` averaged by 1/4, 1/2, 1/4: across the
+// face along a periodic axis; a bounded one continues its end voxels'
+// slope (which the average then keeps) or repeats them.
+void average_along(std::vector<double>& values, const std::array<long long, 3>& shape, int axis,
+                   const std::array<bool, 3>& periodic, Beyond beyond) {
+  const std::array<long long, 3> stride{{1, shape[0], shape[0] * shape[1]}};
+  const long long n = shape[axis];
+  const bool slope = beyond == Beyond::Slope;
+  if (n < (slope ? 3 : 1)) return;  // too short a line to continue a slope along
+  std::vector<double> line(n);
+  const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+  for (long long ib = 0; ib < shape[b]; ++ib)
+    for (long long ia = 0; ia < shape[a]; ++ia) {
+      const long long start = ia * stride[a] + ib * stride[b];
+      for (long long p = 0; p < n; ++p) line[p] = values[start + p * stride[axis]];
+      const double first = periodic[axis] ? line[n - 1] : slope ? 2 * line[0] - line[1] : line[0];
+      const double last = periodic[axis] ? line[0] : slope ? 2 * line[n - 1] - line[n - 2] : line[n - 1];
+      for (long long p = 0; p < n; ++p) {
+        const double below = p > 0 ? line[p - 1] : first, above = p < n - 1 ? line[p + 1] : last;
+        values[start + p * stride[axis]] = 0.25 * below + 0.5 * line[p] + 0.25 * above;
+      }
+    }
+}
+
+}  // namespace
+
 std::vector<float> smoothed_at_voxel_scale(std::vector<double> d, const std::array<long long, 3>& shape,
                                            int dimension, const std::array<bool, 3>& periodic) {
-  const std::array<long long, 3> stride{{1, shape[0], shape[0] * shape[1]}};
-  std::vector<double> line;
-  for (int axis = 0; axis < dimension; ++axis) {
-    const long long n = shape[axis];
-    if (n < 3) continue;  // too short a line to average along
-    line.resize(n);
-    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-    for (long long ib = 0; ib < shape[b]; ++ib)
-      for (long long ia = 0; ia < shape[a]; ++ia) {
-        const long long start = ia * stride[a] + ib * stride[b];
-        for (long long p = 0; p < n; ++p) line[p] = d[start + p * stride[axis]];
-        for (long long p = 0; p < n; ++p) {
-          // A bounded axis continues its end voxels' slope outwards, which the average then keeps.
-          const double below = p > 0 ? line[p - 1] : periodic[axis] ? line[n - 1] : 2 * line[0] - line[1];
-          const double above = p < n - 1 ? line[p + 1] : periodic[axis] ? line[0] : 2 * line[n - 1] - line[n - 2];
-          d[start + p * stride[axis]] = 0.25 * below + 0.5 * line[p] + 0.25 * above;
-        }
-      }
-  }
+  for (int axis = 0; axis < dimension; ++axis) average_along(d, shape, axis, periodic, Beyond::Slope);
   return std::vector<float>(d.begin(), d.end());
 }
 
@@ -147,23 +160,8 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
   //    (a bounded axis repeats its end voxels).
   std::vector<double> phi(static_cast<size_t>(count));
   for (long long n = 0; n < count; ++n) phi[n] = is_solid_value[image.values[n]] ? 0.0 : 1.0;
-  std::vector<double> line;
   for (int pass = 0; pass < 2; ++pass)
-    for (int axis = 0; axis < dim; ++axis) {
-      const long long n = shape[axis];
-      line.resize(n);
-      const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-      for (long long ib = 0; ib < shape[b]; ++ib)
-        for (long long ia = 0; ia < shape[a]; ++ia) {
-          const long long start = ia * stride[a] + ib * stride[b];
-          for (long long p = 0; p < n; ++p) line[p] = phi[start + p * stride[axis]];
-          for (long long p = 0; p < n; ++p) {
-            const double below = p > 0 ? line[p - 1] : periodic[axis] ? line[n - 1] : line[0];
-            const double above = p < n - 1 ? line[p + 1] : periodic[axis] ? line[0] : line[n - 1];
-            phi[start + p * stride[axis]] = 0.25 * below + 0.5 * line[p] + 0.25 * above;
-          }
-        }
-    }
+    for (int axis = 0; axis < dim; ++axis) average_along(phi, shape, axis, periodic, Beyond::Repeat);
 
   // The neighbour of voxel `at` one step along an axis (-1: beyond a bounded side).
   auto neighbour = [&](long long at, const long long (&index)[3], int axis, int step) -> long long {
