@@ -631,6 +631,33 @@ TEST_F(ImageParameters, OneVoxelGapsThatCloseBetweenTheWallsAreRefused) {
   EXPECT_MENTIONS(scene_error(list), "close when the walls are placed between the voxels");
 }
 
+// A sample that is not periodic along x: a wedge of solid above a channel
+// four voxels high, 12 voxels tall at x = 0 and gone from x = 12 on, so that
+// neighbouring layers differ in at most one voxel of 16 and the two faces
+// in 12. Warned of, naming the axis and the remedy; mirrored along x (the
+// driven axis), the faces match and the warning goes. Across y the faces
+// differ in one voxel of 16, less than the layers inside: no warning.
+TEST_F(ImageParameters, FacesThatDoNotMatchAcrossThePeriodicCellAreWarnedOf) {
+  const auto raw = folder + "/wedge.raw";
+  std::vector<unsigned char> wedge;
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i) wedge.push_back(j >= 4 && j < 16 - i ? 6 : 0);
+  write_bytes(raw, wedge);
+  auto list = image_scene(raw);
+  list.sublist("Domain").set("Cell Size", array<double>({1.6, 1.6}));
+  list.sublist("Image").set("Shape", array<int>({16, 16}));
+  validate_parameters(list);
+  const auto scene = scene_from_parameters(list, folder);
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_MENTIONS(scene.warnings[0], "faces across x differ in 75 % of their voxels");
+  EXPECT_MENTIONS(scene.warnings[0], "Image/Mirror");
+  auto mirrored_list = list;
+  mirrored_list.sublist("Image").set("Mirror", true);
+  mirrored_list.sublist("Domain").set("Cell Size", array<double>({3.2, 1.6}));
+  const auto mirrored_scene = scene_from_parameters(mirrored_list, folder);
+  EXPECT_TRUE(mirrored_scene.warnings.empty());
+}
+
 // The pore check of an image: a band of pore five voxels wide between
 // bands of solid three wide (periodic), along x. The walls fall on the
 // voxel faces, and the widest path along x is the band: 0.5 m wide at its

@@ -3,6 +3,7 @@
 // file it came from (io/ImageReader.hpp). Voxel (i, j, k) covers
 // [i, i+1) x [j, j+1) x [k, k+1) voxel sizes from the cell's origin, so y
 // grows upwards and a 2D image is one layer (nz = 1).
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -69,6 +70,42 @@ inline VoxelCounts count_voxels(const VoxelImage& image, const std::vector<int>&
   for (std::uint16_t v : image.values) counts.solid += solid[v];
   counts.pore = image.count() - counts.solid;
   return counts;
+}
+
+// How much an image's two faces across `axis` differ, against neighbouring
+// layers inside: the fraction of voxels whose phase (solid or pore)
+// differs between layer 0 and layer n - 1, which a periodic cell puts side
+// by side, and the largest such fraction of two neighbouring layers
+// inside. A sample cut from a larger one is not periodic: its faces differ
+// as two unrelated layers do (about 2 porosity (1 - porosity)), far more
+// than any neighbours inside; a periodic image's faces are neighbours like
+// any others.
+struct FaceMismatch {
+  double faces = 0, inside = 0;
+};
+inline FaceMismatch face_mismatch(const VoxelImage& image, const std::vector<int>& solid_values, int axis) {
+  std::vector<char> solid(1 << 16, 0);
+  for (int v : solid_values)
+    if (v >= 0 && v < (1 << 16)) solid[v] = 1;
+  const long long n = image.shape[axis];
+  FaceMismatch result;
+  if (n < 2) return result;
+  const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+  const double layer = static_cast<double>(image.shape[a] * image.shape[b]);
+  auto differing = [&](long long first, long long second) {
+    long long count = 0;
+    std::array<long long, 3> p{}, q{};
+    for (long long ib = 0; ib < image.shape[b]; ++ib)
+      for (long long ia = 0; ia < image.shape[a]; ++ia) {
+        p[axis] = first, q[axis] = second;
+        p[a] = q[a] = ia, p[b] = q[b] = ib;
+        count += solid[image.at(p[0], p[1], p[2])] != solid[image.at(q[0], q[1], q[2])];
+      }
+    return count / layer;
+  };
+  result.faces = differing(0, n - 1);
+  for (long long i = 0; i + 1 < n; ++i) result.inside = std::max(result.inside, differing(i, i + 1));
+  return result;
 }
 
 }  // namespace poresph

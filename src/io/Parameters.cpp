@@ -586,6 +586,22 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   if (scene.image.counts.pore == 0)
     throw ParameterError(named + " has no pore voxels: every value is one of Image/Solid Values " +
                          list_text(scene.image.solid_values));
+  // A sample that is not periodic, run in a periodic cell, gains a seam of
+  // solid and pore at its faces that is not in the rock: said, with the remedy.
+  for (int axis = 0; axis < scene.dimension; ++axis) {
+    if (!scene.periodic[axis]) continue;
+    const auto mismatch = face_mismatch(voxels, scene.image.solid_values, axis);
+    if (mismatch.faces > std::max(2 * mismatch.inside, 0.05)) {
+      std::ostringstream msg;
+      msg.precision(3);
+      msg << named << ": its two faces across " << "xyz"[axis] << " differ in " << 100 * mismatch.faces
+          << " % of their voxels, where neighbouring layers inside differ in at most " << 100 * mismatch.inside
+          << " %: the periodic cell joins them with a seam that is not in the sample, and k is that of the seamed "
+             "cell. If the sample is not periodic along "
+          << "xyz"[axis] << ", Image/Mirror makes it so along the driven axis";
+      scene.warnings.push_back(msg.str());
+    }
+  }
   // Every driven axis (each in turn for the tensor) needs a pore path
   // across the cell, or the run would spend its steps finding k = 0.
   const bool tensor = list.sublist("Permeability").get<bool>("Tensor");
