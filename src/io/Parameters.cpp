@@ -193,7 +193,8 @@ RCP<ParameterList> make_valid_parameters() {
     auto& s = list->sublist("Image", false,
                             "A segmented image (a micro-CT volume, a thin section) as the solid, instead of Grains. "
                             "Voxel (i, j, k) covers [i, i+1) x [j, j+1) x [k, k+1) voxel sizes from the origin. Read "
-                            "and checked before any work; not simulated yet (issue 16): a run of it is refused.");
+                            "and checked before any work; the walls are placed on the surface found between the voxels, with the "
+                            "grains' no-slip physics (docs/method.md).");
     s.set("File", std::string(""),
           "The image, by extension: .png (2D, 8 or 16-bit greyscale), .tif or .tiff (2D, or 3D as a stack of "
           "pages, page p at z = p; 8 or 16-bit greyscale), .raw (headerless, with Shape and Type). The first row "
