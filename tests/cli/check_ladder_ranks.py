@@ -3,7 +3,7 @@
 array c = 0.5 with three levels ending at dx = 0.01 L, from its grain and
 from an image of it (perf/rasterise.py, four voxels a spacing of the finest
 level), and the simple cubic array of spheres (input/3d) with two levels
-ending at 16 particles per side. Every level's k and step count must agree
+ending at 16 particles per side, from its grain and from a 64^3 raw image. Every level's k and step count must agree
 with one process's: to 1e-10 (sums in another order) and exactly.
 
     check_ladder_ranks.py POREPSH_BINARY INPUT_DIR WORK_DIR
@@ -21,11 +21,16 @@ image_dir = os.path.join(work, "ladder-image")
 subprocess.run([sys.executable, os.path.join(os.path.dirname(inputs), "perf", "rasterise.py"),
                 os.path.join(inputs, "square_array", "square_array_c50.xml"), "--voxels-per-spacing", "4",
                 "--format", "raw", "--output", image_dir], check=True, stdout=subprocess.DEVNULL)
+sphere_dir = os.path.join(work, "ladder-sphere-image")
+subprocess.run([sys.executable, os.path.join(os.path.dirname(inputs), "perf", "rasterise.py"),
+                os.path.join(inputs, "3d", "simple_cubic.xml"), "--spacing", "0.00625", "--voxels-per-spacing", "4",
+                "--format", "raw", "--output", sphere_dir], check=True, stdout=subprocess.DEVNULL)
 CASES = [
     ("square array c = 0.5", ["square_array", "square_array_c50.xml"], ["Convergence/Levels=3"], 3),
     ("square array c = 0.5, image", [image_dir, "image.xml"], ["Convergence/Levels=3"], 3),
     ("simple cubic, 3D", ["3d", "simple_cubic.xml"],
      ["Convergence/Levels=2", "Discretization/Particle Spacing=0.00625"], 2),
+    ("simple cubic, 3D, image", [sphere_dir, "image.xml"], ["Convergence/Levels=2"], 2),
 ]
 failures = 0
 for name, scene, settings, count in CASES:
