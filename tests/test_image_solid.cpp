@@ -226,6 +226,27 @@ TEST(ImageLattice, DiskFromVoxelsFillsTheLatticeAsTheGrainDoes) {
   EXPECT_GT(boundary, 200);
 }
 
+// The narrow pore of an image: between two rows of disks 40 voxels apart,
+// every passage is 40 voxels wide. No ball of 10 voxels misses any of the
+// pore; one of 50 fits nowhere near the gaps, which it leaves uncovered.
+TEST(NarrowPore, PoreNoBallOfTheWidthCoversIsCounted) {
+  VoxelImage disks;
+  disks.shape = {200, 100, 1};
+  disks.values.resize(200 * 100);
+  for (int j = 0; j < 100; ++j)
+    for (int i = 0; i < 200; ++i)
+      disks.values[disks.index(i, j)] = std::hypot(i + 0.5 - 50, j + 0.5 - 50) < 30 ||
+                                        std::hypot(i + 0.5 - 150, j + 0.5 - 50) < 30;
+  SceneConfig scene;
+  scene.dimension = 2;
+  scene.cell_size = {200, 100, 0};
+  scene.image.voxels = std::make_shared<const VoxelImage>(disks);
+  scene.image.voxel_size = 1.0;
+  scene.image.distance = std::make_shared<const std::vector<float>>(surface_distance(disks, {1}, 1.0, kPeriodic));
+  EXPECT_LT(pore_fraction_narrower_than(scene, 10.0), 0.002);
+  EXPECT_GT(pore_fraction_narrower_than(scene, 50.0), 0.02);  // measured 0.039: the necks of the gaps
+}
+
 // Grains and an image alike answer the solid's questions in kernels: how
 // deep a point lies and which way is out.
 TEST(SolidMap, ImagePointsInsideTheSolidAreFoundWithTheirDepth) {

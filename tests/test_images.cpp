@@ -687,8 +687,10 @@ TEST_F(ImageParameters, NarrowestPoreIsTheWidestPathsBottleneck) {
   auto under_three = banded(0.2);
   validate_parameters(under_three);
   const auto warned = scene_from_parameters(under_three, folder);
-  ASSERT_EQ(warned.warnings.size(), 1u);
+  ASSERT_EQ(warned.warnings.size(), 2u);
   EXPECT_MENTIONS(warned.warnings[0], "widest pore path along x narrows to 0.5 (5 voxels, 2.5 particle spacings)");
+  // ... and the whole band is narrower than three spacings: no ball 0.6 m across fits in it.
+  EXPECT_MENTIONS(warned.warnings[1], "100 % of its pore volume lies in passages narrower than 3 particle spacings");
   EXPECT_MENTIONS(scene_error(banded(0.6)), "narrower than one spacing");
 }
 

@@ -238,4 +238,12 @@ double narrowest_pore(const SceneConfig& scene);
 // for those under three (the permeability through them is underestimated).
 std::vector<std::string> check_pores(const SceneConfig& scene);
 
+// An image's pore (fraction of its pore voxels) that no ball of diameter
+// `width` lying in the pore covers: its passages narrower than that, on
+// the flow's path or off it (side throats, wedges by contacts, crevices).
+// check_pores warns when more than kNarrowPoreWarning of the pore is
+// narrower than 3 spacings: a rough surface's crevices alone stay under it.
+double pore_fraction_narrower_than(const SceneConfig& scene, double width);
+constexpr double kNarrowPoreWarning = 0.01;
+
 }  // namespace poresph
