@@ -113,6 +113,56 @@ TEST(Grains, LatticeFillingRespectsGrainsAcrossTheCorner) {
   for (int q = 0; q < 4; ++q) EXPECT_GT(boundary_near_corner[q], 0) << "quadrant " << q;
 }
 
+// The lattice of a grain scene, from the solid interface (Solid.hpp), is
+// the grains' rule point for point: checked against every
+// lattice point, every grain and every periodic image, by brute force. A
+// point within a grain's radius (and 1e-9 dx) is solid; deeper than the
+// shell, 3h, below any surface it is buried; otherwise it belongs to the
+// grain whose surface is nearest (the first listed on a tie) and carries its
+// offset from that image of the centre (to rounding: the image is taken
+// another way) and its radius. Grains overlapping each other, across an
+// edge and across the corner.
+TEST(Grains, LatticeIsTheGrainRuleAtEveryPoint) {
+  SceneConfig scene = unit_cell(0.02);
+  scene.allow_overlapping_grains = true;
+  scene.grains = grains_from_list({0.03, 0.96, 0.15,  0.5, 0.5, 0.2,  0.66, 0.5, 0.12,  0.98, 0.3, 0.1}, 2);
+  const double dx = scene.particle_spacing, shell = 3 * dx, on_surface = 1e-9 * dx;
+  const auto seeds = fill_lattice<2>(scene);
+  size_t next = 0;
+  for (int j = 0; j < 50; ++j)
+    for (int i = 0; i < 50; ++i) {
+      const double x[2] = {(i + 0.5) * dx, (j + 0.5) * dx};
+      bool buried = false;
+      int owner = -1;
+      double depth = 0, offset[2] = {0, 0};
+      for (int g = 0; g < static_cast<int>(scene.grains.size()); ++g)
+        for (int sx = -1; sx <= 1; ++sx)
+          for (int sy = -1; sy <= 1; ++sy) {
+            const auto& grain = scene.grains[g];
+            const double r[2] = {x[0] - (grain.centre[0] + sx), x[1] - (grain.centre[1] + sy)};
+            const double dist = std::sqrt(r[0] * r[0] + r[1] * r[1]);
+            if (dist > grain.radius + on_surface) continue;
+            const double below = grain.radius - dist;
+            if (below > shell + on_surface) buried = true;
+            else if (owner < 0 || below < depth) owner = g, depth = below, offset[0] = r[0], offset[1] = r[1];
+          }
+      if (buried) continue;  // no particle here
+      ASSERT_LT(next, seeds.size());
+      const auto& s = seeds[next++];
+      ASSERT_EQ(s.x[0], x[0]);
+      ASSERT_EQ(s.x[1], x[1]);
+      if (owner < 0) {
+        EXPECT_EQ(s.kind, kFluid) << x[0] << ", " << x[1];
+        continue;
+      }
+      EXPECT_EQ(s.kind, kGrainBoundary) << x[0] << ", " << x[1];
+      EXPECT_NEAR(s.wall_vector[0], offset[0], 1e-14) << x[0] << ", " << x[1];
+      EXPECT_NEAR(s.wall_vector[1], offset[1], 1e-14) << x[0] << ", " << x[1];
+      EXPECT_EQ(s.wall_scalar, scene.grains[owner].radius) << x[0] << ", " << x[1];
+    }
+  EXPECT_EQ(next, seeds.size());
+}
+
 // The map lists, for every point, each grain containing it (periodic images
 // included); checked against a scan of all grains on a fine grid of points.
 TEST(Grains, MapFindsEveryGrainContainingAPoint) {
