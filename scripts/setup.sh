@@ -26,7 +26,7 @@ packages=(
   libtrilinos-triutils-dev libtrilinos-rtop-dev libtrilinos-kokkos-kernels-dev
   libptscotch-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libgtest-dev nlohmann-json3-dev
   libpng-dev libtiff-dev
-  python3 python3-numpy python3-matplotlib python3-h5py
+  python3 python3-numpy python3-matplotlib python3-h5py python3-pil
 )
 
 # Not needed to build; their tests run where they are installed (`test`, `tools`).

@@ -16,7 +16,8 @@ Checks:
 - a restart from this image's checkpoint with another image is refused;
 - moving particles (Particle Motion = lagrangian) with an image are warned
   of: they measure the no-slip distances from tangent planes;
-- the grid output's solid flag covers the image's solid fraction.
+- the grid output's solid flag covers the image's solid fraction;
+- a sphere drawn as a 3D raw volume and as a TIFF stack gives the same k.
 """
 import json
 import os
@@ -89,4 +90,17 @@ with h5py.File(os.path.join(out, "from-image", frames[-1]), "r") as f:
     solid = float(np.mean(f["grid_solid"][...]))
 print(f"grid solid fraction {solid:.4f}")
 assert abs(solid - 0.2) < 0.02, solid
+# The same sphere as a 3D raw volume and as a TIFF stack (one page per z):
+# the same voxels, so the same k to every digit.
+sphere = os.path.join(inputs, "3d", "simple_cubic.xml")
+k_of = {}
+for fmt in ("raw", "tif"):
+    folder = os.path.join(out, f"sphere-{fmt}")
+    subprocess.run([sys.executable, os.path.join(os.path.dirname(inputs), "perf", "rasterise.py"), sphere,
+                    "--spacing", "0.01", "--voxels-per-spacing", "2", "--format", fmt, "--output", folder],
+                   check=True, stdout=subprocess.DEVNULL)
+    k_of[fmt] = run(os.path.join(folder, "image.xml"), f"sphere-{fmt}-run", "Run/Max Steps=100")["permeability"]["kxx"]
+print(f"sphere as raw volume kxx {k_of['raw']!r}, as TIFF stack {k_of['tif']!r}")
+assert k_of["raw"] == k_of["tif"] and k_of["raw"] > 0, k_of
+
 print("image scene ok")
