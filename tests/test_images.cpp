@@ -658,6 +658,22 @@ TEST_F(ImageParameters, FacesThatDoNotMatchAcrossThePeriodicCellAreWarnedOf) {
   EXPECT_TRUE(mirrored_scene.warnings.empty());
 }
 
+// An image too large to make walls of in the memory there is: refused
+// before the distance field is made, with what it needs and what there is.
+TEST_F(ImageParameters, ImageTooLargeForTheMemoryIsRefusedBeforeItsWallsAreMade) {
+  const auto raw = folder + "/large.raw";
+  write_bytes(raw, std::vector<unsigned char>(48, 0));  // 6 x 8 voxels: 1920 bytes to set up
+  auto list = image_scene(raw);
+  list.sublist("Domain").set("Cell Size", array<double>({0.6, 0.8}));
+  list.sublist("Image").set("Shape", array<int>({6, 8}));
+  list.sublist("Run").set("Memory Limit", 1e-6);  // GB: 1000 bytes
+  const auto error = scene_error(list);
+  EXPECT_MENTIONS(error, "making its walls takes about 1.92e-06 GB");
+  EXPECT_MENTIONS(error, "Run/Memory Limit");
+  list.sublist("Run").set("Memory Limit", 1e-5);  // 10,000 bytes: enough (the all-pore image is refused later)
+  EXPECT_EQ(scene_error(list).find("making its walls"), std::string::npos);
+}
+
 // The pore check of an image: a band of pore five voxels wide between
 // bands of solid three wide (periodic), along x. The walls fall on the
 // voxel faces, and the widest path along x is the band: 0.5 m wide at its

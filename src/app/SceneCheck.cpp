@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/Kernel.hpp"
+#include "core/MemoryAvailable.hpp"
 #include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
 #include "io/Parameters.hpp"
@@ -141,20 +142,9 @@ MemoryBudget memory_budget(const SceneConfig& scene, int processes_on_machine) {
     budget.source = "Run/Memory Limit";
     return budget;
   }
-  // MemAvailable: what Linux can give without swapping, page cache included.
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double kilobytes = 0;
-  while (meminfo >> key >> kilobytes) {
-    if (key == "MemAvailable:") {
-      budget.available_bytes = kilobytes * 1024;
-      budget.source = "MemAvailable in /proc/meminfo";
-      return budget;
-    }
-    meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-  }
-  budget.available_bytes = INFINITY;  // unknown: no memory check
-  budget.source = "unknown (no /proc/meminfo)";
+  budget.available_bytes = memory_available_bytes();
+  budget.source = std::isfinite(budget.available_bytes) ? "MemAvailable in /proc/meminfo"
+                                                         : "unknown (no /proc/meminfo)";  // infinite: no memory check
   return budget;
 }
 

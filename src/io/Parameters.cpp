@@ -1,5 +1,6 @@
 #include "io/Parameters.hpp"
 
+#include "core/MemoryAvailable.hpp"
 #include "geometry/DistanceTransform.hpp"
 #include "geometry/Grains.hpp"
 #include "geometry/Percolation.hpp"
@@ -494,6 +495,12 @@ std::string list_text(const std::vector<T>& values) {
   return out.str();
 }
 
+// Bytes a voxel that making an image's walls holds at its peak: the voxels
+// (2), the blurred indicator (8), the surface points' index (8), the
+// feature transform (8) and its distances (8), the field (4), and the
+// widths measured on it after (8 + 8 + 1 + 4 as the others are freed).
+constexpr double kImageSetupBytes = 40;
+
 // The Image sublist: the voxels read, mirrored if asked, and checked
 // against the rest of the scene (dimension, cell, grains) before any work.
 // Parsed after Fluid, so that the driven axis is known.
@@ -537,6 +544,23 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
     throw ParameterError(e.what());
   }
   const std::string named = "Image/File '" + file + "' (" + shape_text(voxels) + ")";
+  // Its walls are made next (the distance field, about kImageSetupBytes a
+  // voxel for a moment, mirrored voxels counted twice): said now, not
+  // found out by running out of memory.
+  {
+    const double voxels_made = static_cast<double>(voxels.count()) * (mirror ? 2 : 1);
+    const double need = kImageSetupBytes * voxels_made;
+    const double available = scene.memory_limit_bytes > 0 ? scene.memory_limit_bytes : memory_available_bytes();
+    if (need > available) {
+      std::ostringstream msg;
+      msg.precision(3);
+      msg << named << ": making its walls takes about " << need / 1e9 << " GB for a moment (" << kImageSetupBytes
+          << " bytes a voxel, in every process), and " << available / 1e9 << " GB are available ("
+          << (scene.memory_limit_bytes > 0 ? "Run/Memory Limit" : "MemAvailable in /proc/meminfo")
+          << "). Crop or coarsen the image, or run where there is more memory";
+      throw ParameterError(msg.str());
+    }
+  }
   if (!is_raw && !raw.shape.empty()) {
     std::vector<long long> read_shape(voxels.shape.begin(), voxels.shape.begin() + voxels.dimension);
     if (read_shape != raw.shape)
