@@ -644,15 +644,14 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   // voxel, open in the voxels, may close between the walls).
   auto distance = surface_distance(voxels, scene.image.solid_values, voxel_size, scene.periodic);
   const std::vector<double> widths(distance.begin(), distance.end());
-  for (int axis = 0; axis < scene.dimension; ++axis)
-    if (tensor || scene.body_force[axis] != 0)
-    {
-      scene.image.bottleneck[axis] = widest_path_width(widths, voxels.shape, voxels.dimension, axis, scene.periodic);
-      if (!(scene.image.bottleneck[axis] > 0))
-        throw ParameterError(named + ": its pore voxels cross the cell along " + std::string(1, "xyz"[axis]) +
-                             " only through gaps about a voxel wide, which close when the walls are placed between "
-                             "the voxels: no pore path is left that way. Use an image of finer voxels");
-    }
+  for (int axis = 0; axis < scene.dimension; ++axis) {
+    if (!tensor && scene.body_force[axis] == 0) continue;
+    scene.image.bottleneck[axis] = widest_path_width(widths, voxels.shape, voxels.dimension, axis, scene.periodic);
+    if (!(scene.image.bottleneck[axis] > 0))
+      throw ParameterError(named + ": its pore voxels cross the cell along " + std::string(1, "xyz"[axis]) +
+                           " only through gaps about a voxel wide, which close when the walls are placed between "
+                           "the voxels: no pore path is left that way. Use an image of finer voxels");
+  }
   scene.image.distance = std::make_shared<const std::vector<float>>(std::move(distance));
   scene.image.file = file;
   scene.image.voxel_size = voxel_size;
