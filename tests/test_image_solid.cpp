@@ -22,6 +22,19 @@ constexpr std::array<bool, 3> kPeriodic{{true, true, true}};
 
 using testing::sketch;
 
+// A periodic 2D scene whose solid is the voxels of value 1 of `voxels`,
+// each `voxel` wide, the cell their extent, walls made as a run makes them.
+SceneConfig scene_of_image(const VoxelImage& voxels, double voxel) {
+  SceneConfig scene;
+  scene.dimension = 2;
+  scene.cell_size = {voxels.shape[0] * voxel, voxels.shape[1] * voxel, 0};
+  scene.image.voxels = std::make_shared<const VoxelImage>(voxels);
+  scene.image.voxel_size = voxel;
+  scene.image.solid_values = {1};
+  scene.image.distance = std::make_shared<const std::vector<float>>(surface_distance(voxels, {1}, voxel, kPeriodic));
+  return scene;
+}
+
 // Between voxel centres the field is interpolated linearly (a linear field
 // exactly), and across a periodic face it joins the last voxel to the first.
 TEST(DistanceField, InterpolatesBetweenVoxelCentresAndAcrossPeriodicFaces) {
@@ -167,12 +180,8 @@ TEST(ImageLattice, DiskFromVoxelsFillsTheLatticeAsTheGrainDoes) {
   for (int j = 0; j < 200; ++j)
     for (int i = 0; i < 200; ++i)
       disk.values[disk.index(i, j)] = std::hypot((i + 0.5) * voxel - cx, (j + 0.5) * voxel - cy) < radius;
-  SceneConfig from_image = scene;
-  from_image.image.voxels = std::make_shared<const VoxelImage>(disk);
-  from_image.image.voxel_size = voxel;
-  from_image.image.solid_values = {1};
-  from_image.image.distance =
-      std::make_shared<const std::vector<float>>(surface_distance(disk, {1}, voxel, kPeriodic));
+  SceneConfig from_image = scene_of_image(disk, voxel);
+  from_image.particle_spacing = scene.particle_spacing;
   SceneConfig from_grain = scene;
   from_grain.grains = grains_from_list({cx, cy, radius}, 2);
 
@@ -237,12 +246,7 @@ TEST(NarrowPore, PoreNoBallOfTheWidthCoversIsCounted) {
     for (int i = 0; i < 200; ++i)
       disks.values[disks.index(i, j)] = std::hypot(i + 0.5 - 50, j + 0.5 - 50) < 30 ||
                                         std::hypot(i + 0.5 - 150, j + 0.5 - 50) < 30;
-  SceneConfig scene;
-  scene.dimension = 2;
-  scene.cell_size = {200, 100, 0};
-  scene.image.voxels = std::make_shared<const VoxelImage>(disks);
-  scene.image.voxel_size = 1.0;
-  scene.image.distance = std::make_shared<const std::vector<float>>(surface_distance(disks, {1}, 1.0, kPeriodic));
+  const SceneConfig scene = scene_of_image(disks, 1.0);
   EXPECT_LT(pore_fraction_narrower_than(scene, 10.0), 0.002);
   EXPECT_GT(pore_fraction_narrower_than(scene, 50.0), 0.02);  // measured 0.039: the necks of the gaps
 }
@@ -255,12 +259,7 @@ TEST(SolidMap, ImagePointsInsideTheSolidAreFoundWithTheirDepth) {
   slab.values.resize(100);
   for (int j = 0; j < 10; ++j)
     for (int i = 0; i < 10; ++i) slab.values[slab.index(i, j)] = j < 6;  // solid below y = 0.6
-  SceneConfig scene;
-  scene.dimension = 2;
-  scene.cell_size = {1.0, 1.0, 0};
-  scene.image.voxels = std::make_shared<const VoxelImage>(slab);
-  scene.image.voxel_size = 0.1;
-  scene.image.distance = std::make_shared<const std::vector<float>>(surface_distance(slab, {1}, 0.1, kPeriodic));
+  const SceneConfig scene = scene_of_image(slab, 0.1);
   const auto map = make_solid_map<2, Kokkos::HostSpace>(scene, 0.1);
   double depth, normal[2];
   const double below[2] = {0.33, 0.52};

@@ -25,6 +25,7 @@
 #include "io/ImageReader.hpp"
 #include "io/Parameters.hpp"
 #include "ErrorOf.hpp"
+#include "MinimalScene.hpp"
 #include "VoxelSketch.hpp"
 
 namespace poresph {
@@ -509,19 +510,13 @@ TEST(Percolation, TubeAlongZOfAVolume) {
 
 // --- the Image parameters ------------------------------------------------
 
-template <class T>
-Array<T> array(std::initializer_list<T> values) {
-  return Array<T>(std::vector<T>(values));
-}
+using testing::array;
 
 // 3 x 2 voxels of 0.1 m in a 0.3 x 0.2 cell, solid where the value is 6.
 ParameterList image_scene(const std::string& file) {
-  ParameterList list("PoreSPH");
+  ParameterList list = testing::minimal_scene();
   list.sublist("Domain").set("Cell Size", array<double>({0.3, 0.2}));
-  list.sublist("Fluid").set("Kinematic Viscosity", 1e-2);
-  list.sublist("Fluid").set("Body Force", array<double>({1e-3, 0.0}));
   list.sublist("Discretization").set("Particle Spacing", 0.01);
-  list.sublist("Run").set("End Time", 1.0);
   auto& image = list.sublist("Image");
   image.set("File", file);
   image.set("Solid Values", array<int>({6}));

@@ -8,6 +8,7 @@
 #include "io/Parameters.hpp"
 #include "io/TextValues.hpp"
 #include "ErrorOf.hpp"
+#include "MinimalScene.hpp"
 
 namespace poresph {
 namespace {
@@ -15,22 +16,8 @@ namespace {
 using Teuchos::Array;
 using Teuchos::ParameterList;
 
-// Teuchos::Array has no initializer-list constructor ({a, b} would pick the
-// iterator-pair one): go through std::vector.
-template <class T>
-Array<T> array(std::initializer_list<T> values) {
-  return Array<T>(std::vector<T>(values));
-}
-
-ParameterList minimal_scene() {
-  ParameterList list("PoreSPH");
-  list.sublist("Domain").set("Cell Size", array<double>({1.0, 1.0}));
-  list.sublist("Fluid").set("Kinematic Viscosity", 1e-2);
-  list.sublist("Fluid").set("Body Force", array<double>({1e-3, 0.0}));
-  list.sublist("Discretization").set("Particle Spacing", 0.05);
-  list.sublist("Run").set("End Time", 1.0);
-  return list;
-}
+using testing::array;
+using testing::minimal_scene;
 
 // The message of the ParameterError that `f` raises ("" if none).
 template <class F>
