@@ -92,9 +92,7 @@ std::vector<double> squared_distance_transform(const std::array<long long, 3>& s
 
 std::vector<double> signed_distance(const VoxelImage& image, const std::vector<int>& solid_values, double voxel_size,
                                     const std::array<bool, 3>& periodic) {
-  std::vector<char> is_solid_value(1 << 16, 0);
-  for (int v : solid_values)
-    if (v >= 0 && v < (1 << 16)) is_solid_value[v] = 1;
+  const auto is_solid_value = solid_value_table(solid_values);
   const size_t count = image.values.size();
   std::vector<char> solid(count), pore(count);
   for (size_t n = 0; n < count; ++n) {
@@ -152,9 +150,7 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
   const auto& shape = image.shape;
   const long long count = image.count();
   const std::array<long long, 3> stride{{1, shape[0], shape[0] * shape[1]}};
-  std::vector<char> is_solid_value(1 << 16, 0);
-  for (int v : solid_values)
-    if (v >= 0 && v < (1 << 16)) is_solid_value[v] = 1;
+  const auto is_solid_value = solid_value_table(solid_values);
 
   // 1. The pore indicator blurred twice by 1/4, 1/2, 1/4 along each axis
   //    (a bounded axis repeats its end voxels).

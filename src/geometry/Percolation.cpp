@@ -9,9 +9,7 @@ namespace poresph {
 
 bool pore_percolates(const VoxelImage& image, const std::vector<int>& solid_values, int axis,
                      const std::array<bool, 3>& periodic) {
-  std::vector<char> is_solid_value(1 << 16, 0);
-  for (int v : solid_values)
-    if (v >= 0 && v < (1 << 16)) is_solid_value[v] = 1;
+  const auto is_solid_value = solid_value_table(solid_values);
   std::vector<char> open(image.values.size());
   for (size_t n = 0; n < open.size(); ++n) open[n] = !is_solid_value[image.values[n]];
   return open_percolates(image.shape, image.dimension, open, axis, periodic);

@@ -57,15 +57,21 @@ inline VoxelImage mirrored(const VoxelImage& image, int axis) {
   return out;
 }
 
+// A table over every 16-bit value, 1 where the value is one of
+// `solid_values`: one look-up a voxel, however many values are solid.
+inline std::vector<char> solid_value_table(const std::vector<int>& solid_values) {
+  std::vector<char> solid(1 << 16, 0);
+  for (int v : solid_values)
+    if (v >= 0 && v < (1 << 16)) solid[v] = 1;
+  return solid;
+}
+
 // Solid and pore voxels, the solid ones being those whose value is listed.
 struct VoxelCounts {
   long long solid = 0, pore = 0;
 };
 inline VoxelCounts count_voxels(const VoxelImage& image, const std::vector<int>& solid_values) {
-  // A table over every 16-bit value: one look-up a voxel, however many values are solid.
-  std::vector<char> solid(1 << 16, 0);
-  for (int v : solid_values)
-    if (v >= 0 && v < (1 << 16)) solid[v] = 1;
+  const auto solid = solid_value_table(solid_values);
   VoxelCounts counts;
   for (std::uint16_t v : image.values) counts.solid += solid[v];
   counts.pore = image.count() - counts.solid;
@@ -84,9 +90,7 @@ struct FaceMismatch {
   double faces = 0, inside = 0;
 };
 inline FaceMismatch face_mismatch(const VoxelImage& image, const std::vector<int>& solid_values, int axis) {
-  std::vector<char> solid(1 << 16, 0);
-  for (int v : solid_values)
-    if (v >= 0 && v < (1 << 16)) solid[v] = 1;
+  const auto solid = solid_value_table(solid_values);
   const long long n = image.shape[axis];
   FaceMismatch result;
   if (n < 2) return result;

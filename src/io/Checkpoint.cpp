@@ -78,9 +78,7 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
   if (scene.image.voxels) {
     const auto& voxels = *scene.image.voxels;
     std::vector<std::uint16_t> solid(voxels.values.size());
-    std::vector<char> is_solid(1 << 16, 0);
-    for (int v : scene.image.solid_values)
-      if (v >= 0 && v < (1 << 16)) is_solid[v] = 1;
+    const auto is_solid = solid_value_table(scene.image.solid_values);
     for (size_t n = 0; n < solid.size(); ++n) solid[n] = is_solid[voxels.values[n]];
     std::snprintf(checksum, sizeof checksum, "%016llx",
                   static_cast<unsigned long long>(
