@@ -43,6 +43,18 @@ SCENES = {
 MOVING = ["Discretization/Particle Motion=lagrangian"]
 
 
+def preamble(title, dimension, boundary, dx):
+    """The opening lines both decks share: SI units, SPH atoms, Newton's
+    third law on (half neighbour lists, as PoreSPH's), and the spacing dx."""
+    return f"""# {title} (perf/lammps_side_by_side.py)
+units si
+dimension {dimension}
+atom_style sph
+boundary {boundary}
+newton on
+variable dx equal {dx!r}"""
+
+
 def sph_model(c):
     """The fluid both decks share, as in PoreSPH's scenes: water (rho0 = 1000
     kg/m^3, mu = 1e-3 Pa s) with the Tait equation of state at sound speed c,
@@ -69,13 +81,7 @@ def channel_deck(dx, c, dt, steps):
     """LAMMPS: the channel of input/poiseuille.xml, 1000 x 40 fluid particles
     on a square lattice with 3 rows of frozen wall particles on each side,
     starting from rest under the body force."""
-    return f"""# 2D Poiseuille flow from rest (perf/lammps_side_by_side.py)
-units si
-dimension 2
-atom_style sph
-boundary p f p
-newton on
-variable dx equal {dx!r}
+    return f"""{preamble("2D Poiseuille flow from rest", 2, "p f p", dx)}
 lattice sq ${{dx}} origin 0.5 0.5 0.0
 region box block 0 1000 -3 43 -0.5 0.5 units lattice
 create_box 2 box
@@ -95,13 +101,7 @@ fix twod all enforce2d
 
 def box_deck(dx, c, dt, steps):
     """LAMMPS: a periodic cube of 50^3 fluid particles at rest."""
-    return f"""# 3D periodic box of fluid at rest (perf/lammps_side_by_side.py)
-units si
-dimension 3
-atom_style sph
-boundary p p p
-newton on
-variable dx equal {dx!r}
+    return f"""{preamble("3D periodic box of fluid at rest", 3, "p p p", dx)}
 lattice sc ${{dx}} origin 0.5 0.5 0.5
 region box block 0 50 0 50 0 50 units lattice
 create_box 1 box
