@@ -131,6 +131,27 @@ TEST(SteadyState, SmoothingOverThePeriodIgnoresAnAcousticOscillation) {
   EXPECT_LE(0.05 * std::exp(-slow_stop.time / 400), 2 * tol);  // the approach, not the smoothing, decided
 }
 
+// A run that stops on a checking step samples that step again at its end
+// (PermeabilityProbe::at_end): the repeat must change neither the verdict
+// nor the judged value. Counted twice, it weighed the last state double in
+// the mean and turned a steady ladder level into "steady": false.
+TEST(SteadyState, ASampleSeenAgainChangesNothing) {
+  const double period = 50, tol = 1e-3;
+  auto k = [&](double t) { return 1 + 0.003 * std::exp(-t / 150) * std::cos(2 * M_PI * t / period); };
+  SteadyStateDetector detector(0.0, tol);
+  detector.set_smoothing(period);
+  const Stop stop = run(detector, k, 1.0, 5000, period);
+  ASSERT_TRUE(stop.steady);
+  const auto judged = detector.judged_value();
+  const double relative = detector.relative_change(), remaining = detector.remaining_change();
+  // Seen again, and a far-off value at an earlier time: both ignored.
+  EXPECT_TRUE(detector.add(stop.time, k(stop.time), period));
+  EXPECT_TRUE(detector.add(stop.time - 0.5, 2.0, period));
+  EXPECT_EQ(detector.judged_value()[0], judged[0]);
+  EXPECT_EQ(detector.relative_change(), relative);
+  EXPECT_EQ(detector.remaining_change(), remaining);
+}
+
 // Without smoothing the judged value is the last sample, bit for bit.
 TEST(SteadyState, NoSmoothingJudgesTheSamplesThemselves) {
   SteadyStateDetector detector(10.0, 1e-3);

@@ -51,7 +51,12 @@ class SteadyStateDetector {
 
   // Adds the sample at `time` (times increasing) with the flow's time scale
   // now (0 if unknown: the window alone sets the span); returns whether steady.
+  // A sample at or before the last one's time is the same state seen again
+  // (a run ending on a checking step): it changes nothing, where a repeat
+  // would weigh that state twice in the mean and could flip the verdict.
   bool add(double time, const Sample& value, double time_scale = 0) {
+    if (!samples_.empty() && time <= samples_.back().first)
+      return remaining_change_ <= tolerance_ && relative_change_ <= tolerance_;
     if (samples_.empty()) first_time_ = time;
     samples_.emplace_back(time, value);
     span_ = std::max(window_, time_scale);
