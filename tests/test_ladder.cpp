@@ -12,6 +12,7 @@
 
 #include "app/Run.hpp"
 #include "app/RunPlan.hpp"
+#include "app/Simulation.hpp"
 #include "io/Parameters.hpp"
 #include "SharedDirectory.hpp"
 
@@ -60,9 +61,86 @@ TEST(Ladder, PlansLevelsCoarseToFineAxisByAxis) {
     }
     EXPECT_TRUE(stages[4 * a + 3].half_force);
     EXPECT_EQ(stages[4 * a + 3].warm_scale, 0.5);
+    // The middle level keeps its start; the finest continues its change
+    // (1 / (2^2 - 1)); the half-force repeat of the same level does neither.
+    for (int l = 0; l < 4; ++l) {
+      EXPECT_EQ(stages[4 * a + l].keeps_level_start, l == 1) << l;
+      EXPECT_EQ(stages[4 * a + l].warm_extrapolation, l == 2 ? 1.0 / 3.0 : 0.0) << l;
+    }
   }
   EXPECT_EQ(stages[0].suffix, "_x_level0");
   EXPECT_EQ(stages[2].suffix, "_x");
+  // Moving particles leave the points their start was given at: plain warm starts.
+  scene.particle_motion = ParticleMotion::Lagrangian;
+  for (const Stage& s : plan_run(scene)) EXPECT_TRUE(!s.keeps_level_start && s.warm_extrapolation == 0);
+}
+
+// A level that kept its start hands the next one what it took plus the
+// extrapolation times what it changed of it; the next one keeps the plain
+// part. Uniform fields, which Shepard's interpolation keeps exactly, in a
+// grain cell whose finer particles near the cell's edge (and, on two
+// processes, the box's) interpolate from ghosts: of the flow and of the start.
+TEST(Ladder, AFinerLevelStartsFromTheChangeOfTheLevelBefore) {
+  using Space = Kokkos::DefaultHostExecutionSpace;
+  const auto base = square_array_ladder();
+  const auto stages = plan_run(base);
+  Simulation<2, Space> middle(stage_scene(base, stages[1]));
+  middle.keep_level_start();
+  const double c_sq = middle.derived().sound_speed * middle.derived().sound_speed, rho0 = base.density;
+  const double now[3] = {2e-6, -1e-6, 3e-7}, start[3] = {1.4e-6, -0.4e-6, 1e-7};  // vx, vy, p - c^2 rho0
+  {
+    auto& P = middle.particles();
+    auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
+    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.v);
+    auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.rho);
+    auto v_start = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.v_level_start);
+    auto p_start = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.p_level_start);
+    for (int i = 0; i < P.owned; ++i) {
+      if (kind(i) != kFluid) continue;
+      for (int d = 0; d < 2; ++d) v(i, d) = now[d], v_start(i, d) = start[d];
+      rho(i) = rho0 + now[2] / c_sq;
+      p_start(i) = c_sq * rho0 + start[2];
+    }
+    Kokkos::deep_copy(P.v, v), Kokkos::deep_copy(P.rho, rho);
+    Kokkos::deep_copy(P.v_level_start, v_start), Kokkos::deep_copy(P.p_level_start, p_start);
+  }
+  Simulation<2, Space> finest(stage_scene(base, stages[2]), Space(), Communicator(), Simulation<2, Space>::Start::Lattice,
+                              middle.decomposition().boxes());
+  finest.keep_level_start();
+  const double e = stages[2].warm_extrapolation;
+  middle.warm_start(finest, 1.0, e);
+  const auto& F = finest.particles();
+  auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), F.kind);
+  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), F.v);
+  auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), F.rho);
+  auto v_start = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), F.v_level_start);
+  auto p_start = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), F.p_level_start);
+  const double fine_c_sq = finest.derived().sound_speed * finest.derived().sound_speed;
+  int fluid = 0;
+  for (int i = 0; i < F.owned; ++i) {
+    if (kind(i) != kFluid) continue;
+    ++fluid;
+    for (int d = 0; d < 2; ++d) {
+      ASSERT_NEAR(v(i, d), now[d] + e * (now[d] - start[d]), 1e-20) << i;
+      ASSERT_NEAR(v_start(i, d), now[d], 1e-20) << i;
+    }
+    ASSERT_NEAR((rho(i) - rho0) * fine_c_sq, now[2] + e * (now[2] - start[2]), 1e-17) << i;
+    ASSERT_NEAR(p_start(i) - fine_c_sq * rho0, now[2], 1e-17) << i;
+  }
+  EXPECT_GT(fluid, 0);
+  // Without a kept start there is nothing to continue: the plain interpolation.
+  Simulation<2, Space> plain(stage_scene(base, stages[2]), Space(), Communicator(), Simulation<2, Space>::Start::Lattice,
+                             middle.decomposition().boxes());
+  Simulation<2, Space> coarsest(stage_scene(base, stages[0]), Space(), Communicator(),
+                                Simulation<2, Space>::Start::Lattice, middle.decomposition().boxes());
+  Kokkos::deep_copy(coarsest.particles().v, now[0]);  // boundary particles' too: the fluid alone is read
+  coarsest.warm_start(plain, 1.0, e);
+  auto plain_kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), plain.particles().kind);
+  auto v_plain = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), plain.particles().v);
+  for (int i = 0; i < plain.particles().owned; ++i) {
+    if (plain_kind(i) != kFluid) continue;
+    ASSERT_NEAR(v_plain(i, 0), now[0], 1e-20) << i;
+  }
 }
 
 TEST(Ladder, RefusesLevelsThatDoNotFitTheCell) {

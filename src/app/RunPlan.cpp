@@ -53,6 +53,16 @@ std::vector<Stage> plan_run(const SceneConfig& scene) {
       Stage s;
       s.level = l, s.levels = levels, s.spacing = spacings[l], s.drive_axis = axis;
       s.warm = l > 0;
+      // The refinement from level l - 1 to l changes the flow by about 1 / r^p
+      // of what the one before changed (Richardson, p = 2, the order of the
+      // kernel's interpolation error): continuing it gives a start closer to
+      // the level's own flow, and only the start: the level still runs to its
+      // own steady state (docs/method.md). Needs two levels before it.
+      if (scene.particle_motion == ParticleMotion::Fixed) {
+        s.keeps_level_start = l > 0 && l < levels - 1;
+        const double r = l >= 2 ? spacings[l - 1] / spacings[l] : 0;  // as rounded to the cell
+        if (l >= 2) s.warm_extrapolation = 1.0 / (r * r - 1.0);
+      }
       s.suffix = axis_suffix + (l < levels - 1 ? "_level" + std::to_string(l) : "");
       stages.push_back(s);
     }
@@ -62,6 +72,7 @@ std::vector<Stage> plan_run(const SceneConfig& scene) {
       // Darcy flow is linear in the force: half the finest flow is where a
       // linear flow ends, and what is left to settle is the inertia.
       s.warm = true, s.warm_scale = 0.5;
+      s.keeps_level_start = false, s.warm_extrapolation = 0;  // the same level: nothing to continue
       s.suffix = axis_suffix + "_half_force";
       stages.push_back(s);
     }

@@ -22,6 +22,11 @@ struct Stage {
   bool half_force = false;
   bool warm = false;      // starts from the end of the stage before it
   double warm_scale = 1;  // the velocities and pressures it takes are scaled by this
+  // Fixed particles: a refined level keeps its start if a finer one follows,
+  // and starts from the stage before plus this times what that one changed
+  // of its own start (Simulation::warm_start).
+  bool keeps_level_start = false;
+  double warm_extrapolation = 0;
   std::string suffix;     // of its history and field files: "_x", "_level0", "_half_force", ...
 
   bool finest() const { return level == levels - 1; }

@@ -427,25 +427,49 @@ GridBlock<Dim> Simulation<Dim, ExecSpace>::interpolate_to_grid(const std::vector
 }
 
 template <int Dim, class ExecSpace>
-void Simulation<Dim, ExecSpace>::warm_start(Simulation& finer, double scale) {
+void Simulation<Dim, ExecSpace>::keep_level_start() {
+  if (!fixed_) throw std::logic_error("keep_level_start: moving particles leave the points their start was given at");
+  particles_.keep_level_start();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::warm_start(Simulation& finer, double scale, double extrapolation) {
   update_pressure_and_ghosts();  // the ghosts as they are now: they serve the box's edge
   auto& F = finer.particles_;
   const int n = F.owned;
-  Kokkos::View<double**, MemorySpace> values("warm_start_values", n, Dim + 1);
   const double rest_pressure = derived_.sound_speed * derived_.sound_speed * scene_.density;
+  Kokkos::View<double**, MemorySpace> values("warm_start_values", n, Dim + 1);
   interpolate_fluid_at(space_, particles_, neighbourhood_.cells(), kernel_, F.x, n, rest_pressure, values);
+  // This level's own start, interpolated the same way (its ghosts first):
+  // what this level changed of it is what the refinement before changed.
+  const bool extrapolate = extrapolation != 0 && particles_.has_level_start;
+  Kokkos::View<double**, MemorySpace> start_values("warm_start_level_start", extrapolate ? n : 0, Dim + 1);
+  if (extrapolate) {
+    ParticleSet start = particles_;
+    start.v = particles_.v_level_start, start.p = particles_.p_level_start;
+    neighbourhood_.update_ghosts(start);
+    interpolate_fluid_at(space_, start, neighbourhood_.cells(), kernel_, F.x, n, rest_pressure, start_values);
+  }
   space_.fence();
   // The pressure carries over, not the density: the finer level's sound speed differs.
   const double fine_c_sq = finer.derived_.sound_speed * finer.derived_.sound_speed;
   const double rho0 = finer.scene_.density;
-  const auto v = F.v, rho = F.rho;
+  const bool keep = F.has_level_start;
+  const auto v = F.v, rho = F.rho, v_start = F.v_level_start, p_start = F.p_level_start;
   const auto kind = F.kind;
   static const std::string label = "poresph::warm_start";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(finer.space_, 0, n), KOKKOS_LAMBDA(int i) {
         if (kind(i) != kFluid) return;
-        for (int d = 0; d < Dim; ++d) v(i, d) = scale * values(i, d);
-        rho(i) = rho0 + scale * values(i, Dim) / fine_c_sq;
+        if (keep) {
+          for (int d = 0; d < Dim; ++d) v_start(i, d) = scale * values(i, d);
+          p_start(i) = fine_c_sq * rho0 + scale * values(i, Dim);
+        }
+        double taken[Dim + 1];
+        for (int c = 0; c <= Dim; ++c)
+          taken[c] = scale * (values(i, c) + (extrapolate ? extrapolation * (values(i, c) - start_values(i, c)) : 0.0));
+        for (int d = 0; d < Dim; ++d) v(i, d) = taken[d];
+        rho(i) = rho0 + taken[Dim] / fine_c_sq;
       });
   finer.space_.fence();
   finer.compute_rates();

@@ -111,7 +111,16 @@ class Simulation {
   // velocity, and its density from the pressure under its own sound speed.
   // Boundary particles keep theirs (their pressure follows the fluid's).
   // scale multiplies what is taken (0.5 for the same flow at half the force).
-  void warm_start(Simulation& finer, double scale = 1.0);
+  // With extrapolation e > 0 and a level start kept here (keep_level_start),
+  // `finer` starts instead from what is taken plus e times the change this
+  // level made of its own start, both interpolated: the next refinement
+  // continues the last one (Richardson: e = 1 / (r^p - 1)). If `finer` keeps
+  // a level start, it keeps the plain interpolation.
+  void warm_start(Simulation& finer, double scale = 1.0, double extrapolation = 0.0);
+  // Makes the particles keep the velocity and pressure warm_start gives them
+  // (fixed particles only: moving ones leave the points they were given).
+  void keep_level_start();
+  bool keeps_level_start() const { return particles_.has_level_start; }
 
   // Per owned particle, the grain a grain-boundary particle belongs to; -1 for the others.
   Kokkos::View<int*, MemorySpace> grain_ids() const;

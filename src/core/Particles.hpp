@@ -48,11 +48,18 @@ struct Particles {
   // Particle shifting (owned slots): displacement towards uniform spacing and
   // the velocity change that carries the field along; empty when not enabled.
   Vector shift, shift_velocity;
+  // A ladder level's start (fixed particles): the velocity and pressure it
+  // took from the level before, so that the next level can be started from
+  // what this one then changed (app/Simulation.hpp, warm_start); empty
+  // unless keep_level_start(). Owned slots; the ghost slots are scratch.
+  Vector v_level_start;
+  Scalar p_level_start;
 
   int owned = 0;
   int ghosts = 0;
   bool has_surfaces = false;
   bool has_shifting = false;
+  bool has_level_start = false;
 
   int total() const { return owned + ghosts; }
 
@@ -78,8 +85,16 @@ struct Particles {
     f(x_start), f(v_start), f(dvdt), f(rho_start), f(drhodt);
     if (has_surfaces) f(wall_drag);
     if (has_shifting) f(shift), f(shift_velocity);
+    if (has_level_start) f(v_level_start), f(p_level_start);
   }
   int capacity() const { return static_cast<int>(x.extent(0)); }
+
+  // From now on the particles carry their level start (v_level_start, p_level_start).
+  void keep_level_start() {
+    has_level_start = true;
+    if (static_cast<int>(v_level_start.extent(0)) < capacity())
+      v_level_start = Vector("v_level_start", capacity()), p_level_start = Scalar("p_level_start", capacity());
+  }
 
   explicit Particles(bool with_surfaces = false, bool with_shifting = false)
       : has_surfaces(with_surfaces), has_shifting(with_shifting) {}
@@ -103,6 +118,9 @@ struct Particles {
     }
     if (has_shifting) {
       grow(shift, "shift"); grow(shift_velocity, "shift_velocity");
+    }
+    if (has_level_start) {
+      grow(v_level_start, "v_level_start"); grow(p_level_start, "p_level_start");
     }
   }
 };

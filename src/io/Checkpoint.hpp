@@ -216,6 +216,9 @@ void load_checkpoint(Sim& sim, const std::string& path, const CheckpointInfo& in
   P.reserve(static_cast<int>(count));
   P.owned = static_cast<int>(count);
   P.ghosts = 0;
+  // A checkpoint from before levels kept their start: the next level starts
+  // from this one's flow alone (app/Simulation.hpp, warm_start).
+  if (P.has_level_start && !file.has("v_level_start")) P.has_level_start = false;
   P.for_each_owned_field([&](const auto& view) {
     using Value = typename std::decay_t<decltype(view)>::non_const_value_type;
     if (!file.has(view.label()))
