@@ -203,6 +203,54 @@ struct PairRates {
     }
   }
 
+  // Both ends of a pair of fluid particles at once: each end's acceleration
+  // is a weight of r and a weight of v_ab, so the terms are formed once for
+  // the pair instead of once per end with their signs turned (the general
+  // add(), which no-slip and shifting need). The same rates, rounded
+  // differently.
+  KOKKOS_FORCEINLINE_FUNCTION void add_fluid_pair(Sums& sum_a, Sums& sum_b, const PairEnd<Dim>& a,
+                                                  const PairEnd<Dim>& b, const Vec<Dim>& r, double F) const {
+    const Vec<Dim> v = a.v - b.v;
+    const double continuity = F * dot(v, r);
+    const double pressure = -(a.pressure_term + b.pressure_term) * F;
+    const double viscous = fluid.kinematic_viscosity * (a.inverse_density + b.inverse_density) * F;
+    double v_weight_a = b.m * viscous, v_weight_b = -(a.m * viscous);
+    if constexpr (WithConvection) {  // -V_b F (v_a . r) (v_b - v_a) at a, the mirror at b
+      v_weight_a += b.m * b.inverse_density * F * dot(a.v, r);
+      v_weight_b += a.m * a.inverse_density * F * dot(b.v, r);
+    }
+    const double r_weight_a = b.m * pressure, r_weight_b = -(a.m * pressure);
+    sum_a.drho() += b.m * continuity;
+    sum_b.drho() += a.m * continuity;
+    for (int d = 0; d < Dim; ++d) {
+      sum_a.acceleration(d) += r_weight_a * r[d] + v_weight_a * v[d];
+      sum_b.acceleration(d) += r_weight_b * r[d] + v_weight_b * v[d];
+    }
+  }
+
+  // One pair (a, b) at separation r with F = (1/r) dW/dr: added to a and,
+  // with BothEnds (b owned), to b's copy of the sums.
+  template <bool BothEnds>
+  KOKKOS_FORCEINLINE_FUNCTION void add_pair(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int b,
+                                            const Vec<Dim>& r, double F) const {
+    const PairEnd<Dim> end_b = end_of(b);
+    if constexpr (BothEnds && !WithShifting) {
+      if (!WithSurfaces || (end_a.kind == kFluid && end_b.kind == kFluid)) {
+        Sums sum_b;
+        add_fluid_pair(sum_a, sum_b, end_a, end_b, r, F);
+        for (int c = 0; c < Sums::count; ++c) sums.add(copy, b, c, sum_b.value[c]);
+        return;
+      }
+    }
+    const SharedPairTerms<Dim> t = shared_terms(end_a, end_b, r, F);
+    add(sum_a, end_a, end_b, t, 1.0);
+    if constexpr (BothEnds) {
+      Sums sum_b;
+      add(sum_b, end_b, end_a, t, -1.0);
+      for (int c = 0; c < Sums::count; ++c) sums.add(copy, b, c, sum_b.value[c]);
+    }
+  }
+
   // Pairs of particle a with its list entries [first, last), in chunks of
   // kPairChunk entries and three phases per chunk:
   //  1. separations, and the entries within the support kept by a
@@ -211,8 +259,7 @@ struct PairRates {
   //  2. F = (1/r) dW/dr of the kept pairs, a loop without branches or
   //     dependencies between pairs that the compiler vectorises (as scalar
   //     code, the latency of its sqrt and division was a quarter of the step);
-  //  3. the terms of each kept pair, added to a and, with BothEnds (b owned),
-  //     to b; a ghost's owner evaluates the pair for it.
+  //  3. the terms of each kept pair (add_pair).
   template <bool BothEnds>
   KOKKOS_FORCEINLINE_FUNCTION void add_pairs(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int first,
                                              int last) const {
@@ -238,14 +285,7 @@ struct PairRates {
       for (int j = 0; j < kept; ++j) {
         Vec<Dim> r;
         for (int d = 0; d < Dim; ++d) r[d] = r_of[d][j];
-        const PairEnd<Dim> end_b = end_of(b_of[j]);
-        const SharedPairTerms<Dim> t = shared_terms(end_a, end_b, r, F_of[j]);
-        add(sum_a, end_a, end_b, t, 1.0);
-        if constexpr (BothEnds) {
-          Sums sum_b;
-          add(sum_b, end_b, end_a, t, -1.0);
-          for (int c = 0; c < Sums::count; ++c) sums.add(copy, end_b.index, c, sum_b.value[c]);
-        }
+        add_pair<BothEnds>(end_a, sum_a, copy, b_of[j], r, F_of[j]);
       }
     }
   }
@@ -258,14 +298,7 @@ struct PairRates {
     for (int k = first; k < last; ++k) {
       Vec<Dim> r;
       for (int d = 0; d < Dim; ++d) r[d] = neighbours.separation(k, d);
-      const PairEnd<Dim> end_b = end_of(neighbours.neighbour(k));
-      const SharedPairTerms<Dim> t = shared_terms(end_a, end_b, r, neighbours.derivative_over_r(k));
-      add(sum_a, end_a, end_b, t, 1.0);
-      if constexpr (BothEnds) {
-        Sums sum_b;
-        add(sum_b, end_b, end_a, t, -1.0);
-        for (int c = 0; c < Sums::count; ++c) sums.add(copy, end_b.index, c, sum_b.value[c]);
-      }
+      add_pair<BothEnds>(end_a, sum_a, copy, neighbours.neighbour(k), r, neighbours.derivative_over_r(k));
     }
   }
 
