@@ -14,6 +14,7 @@
 #include "app/RunPlan.hpp"
 #include "app/Simulation.hpp"
 #include "io/Parameters.hpp"
+#include "physics/LevelStart.hpp"
 #include "SharedDirectory.hpp"
 
 namespace poresph {
@@ -108,6 +109,8 @@ TEST(Ladder, AFinerLevelStartsFromTheChangeOfTheLevelBefore) {
                               middle.decomposition().boxes());
   finest.keep_level_start();
   const double e = stages[2].warm_extrapolation;
+  EXPECT_DOUBLE_EQ(continued_value(2.0, 1.0, e, 0.5), 0.5 * (2.0 + 1.0 / 3.0));  // the rule, by hand
+  EXPECT_EQ(continued_value(2.0, 7.0, 0.0, 1.0), 2.0);                          // no extrapolation: exact
   middle.warm_start(finest, 1.0, e);
   const auto& F = finest.particles();
   auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), F.kind);

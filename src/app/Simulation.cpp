@@ -12,6 +12,7 @@
 #include "geometry/Lattice.hpp"
 #include "parallel/RcbDecomposition.hpp"
 #include "physics/Density.hpp"
+#include "physics/LevelStart.hpp"
 #include "physics/PredictorCorrector.hpp"
 
 namespace poresph {
@@ -451,26 +452,9 @@ void Simulation<Dim, ExecSpace>::warm_start(Simulation& finer, double scale, dou
     interpolate_fluid_at(space_, start, neighbourhood_.cells(), kernel_, F.x, n, rest_pressure, start_values);
   }
   space_.fence();
-  // The pressure carries over, not the density: the finer level's sound speed differs.
   const double fine_c_sq = finer.derived_.sound_speed * finer.derived_.sound_speed;
-  const double rho0 = finer.scene_.density;
-  const bool keep = F.has_level_start;
-  const auto v = F.v, rho = F.rho, v_start = F.v_level_start, p_start = F.p_level_start;
-  const auto kind = F.kind;
-  static const std::string label = "poresph::warm_start";
-  Kokkos::parallel_for(
-      label, Kokkos::RangePolicy<ExecSpace>(finer.space_, 0, n), KOKKOS_LAMBDA(int i) {
-        if (kind(i) != kFluid) return;
-        if (keep) {
-          for (int d = 0; d < Dim; ++d) v_start(i, d) = scale * values(i, d);
-          p_start(i) = fine_c_sq * rho0 + scale * values(i, Dim);
-        }
-        double taken[Dim + 1];
-        for (int c = 0; c <= Dim; ++c)
-          taken[c] = scale * (values(i, c) + (extrapolate ? extrapolation * (values(i, c) - start_values(i, c)) : 0.0));
-        for (int d = 0; d < Dim; ++d) v(i, d) = taken[d];
-        rho(i) = rho0 + taken[Dim] / fine_c_sq;
-      });
+  take_level_start(finer.space_, F, values, start_values,
+                   LevelStartRule{scale, extrapolate ? extrapolation : 0.0, fine_c_sq, finer.scene_.density});
   finer.space_.fence();
   finer.compute_rates();
 }
