@@ -122,6 +122,11 @@ struct PairRates {
   QuinticKernel<Dim> kernel;
   FluidProperties fluid;
   bool cached;  // the list carries each pair's separation and F (fixed particles)
+  // Whether a pair of two boundary particles gives anything: the continuity
+  // of their densities (PairLoopOptions::wall_continuity); otherwise such a
+  // pair (a wall's or a grain's inside, about a tenth of a channel's pairs)
+  // is skipped, its terms would be thrown away.
+  bool boundary_pairs = true;
 
   // "poresph::PairRates<surfaces,convection>": what profiles show.
   static std::string label() {
@@ -234,6 +239,8 @@ struct PairRates {
   KOKKOS_FORCEINLINE_FUNCTION void add_pair(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int b,
                                             const Vec<Dim>& r, double F) const {
     const PairEnd<Dim> end_b = end_of(b);
+    if constexpr (WithSurfaces)
+      if (!boundary_pairs && end_a.kind != kFluid && end_b.kind != kFluid) return;
     if constexpr (BothEnds && !WithShifting) {
       if (!WithSurfaces || (end_a.kind == kFluid && end_b.kind == kFluid)) {
         Sums sum_b;
@@ -381,7 +388,7 @@ void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename Ex
   auto run = [&](auto surfaces, auto chosen) {
     using Rates = PairRates<Dim, ExecSpace, decltype(surfaces)::value, decltype(chosen)::value>;
     static const std::string label = Rates::label();
-    Kokkos::parallel_for(label, policy, Rates{P, neighbours, sums, kernel, fluid, neighbours.has_geometry()});
+    Kokkos::parallel_for(label, policy, Rates{P, neighbours, sums, kernel, fluid, neighbours.has_geometry(), options.wall_continuity});
   };
   using Surfaces = std::true_type;
   using NoSurfaces = std::false_type;
