@@ -9,6 +9,8 @@
 #include "TestSpaces.hpp"
 #include "app/Simulation.hpp"
 #include "physics/Density.hpp"
+#include "physics/PairRates.hpp"
+#include "physics/PairTerms.hpp"
 
 namespace poresph {
 namespace {
@@ -141,6 +143,74 @@ TYPED_TEST(Conservation, PressureForcesConserveAngularMomentum) {
       EXPECT_LT(std::abs(torque), 1e-14 * torque_scale);
     }
   }
+}
+
+// The pair loop forms both ends of a fluid pair at once
+// (PairRates::add_fluid_pair); each particle's rates must be the sums of
+// the per-end terms of physics/PairTerms.hpp over all its neighbours,
+// convection included: a brute-force double loop on random particles.
+TYPED_TEST(Conservation, PairLoopRatesAreTheSumsOfThePerEndTerms) {
+  using Space = TypeParam;
+  const Space space;
+  const int n = 300;
+  const double nu = 0.01;
+  Particles<2, typename Space::memory_space> P;
+  P.reserve(n);
+  P.owned = n;
+  auto x = Kokkos::create_mirror_view(P.x);
+  auto v = Kokkos::create_mirror_view(P.v);
+  auto rho = Kokkos::create_mirror_view(P.rho);
+  auto m = Kokkos::create_mirror_view(P.m);
+  auto kind = Kokkos::create_mirror_view(P.kind);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int i = 0; i < n; ++i) {
+    x(i, 0) = 0.2 + 0.6 * u(rng), x(i, 1) = 0.2 + 0.6 * u(rng);
+    v(i, 0) = 0.1 * (u(rng) - 0.5), v(i, 1) = 0.1 * (u(rng) - 0.5);
+    rho(i) = 1.0 + 0.05 * u(rng);
+    m(i) = 1e-3 * (1 + 0.1 * u(rng));
+    kind(i) = kFluid;
+  }
+  Kokkos::deep_copy(P.x, x), Kokkos::deep_copy(P.v, v), Kokkos::deep_copy(P.rho, rho);
+  Kokkos::deep_copy(P.m, m), Kokkos::deep_copy(P.kind, kind);
+  const QuinticKernel<2> kernel(0.05);
+  update_pressure(space, P, 10.0, 0.0);
+  CellList<2, Space> cells;
+  cells.build(space, P.x, n, Vec<2>{{0, 0}}, Vec<2>{{1, 1}}, kernel.cutoff);
+  NeighbourList<2, Space> neighbours;
+  neighbours.build(space, cells, P.x, n, kernel.cutoff);
+  PairSums<Space> sums(RateComponents<2>::count(false));
+  sums.reserve(n);
+  PairLoopOptions options;
+  options.convection = true;
+  compute_pair_rates(space, P, neighbours, sums, kernel, FluidProperties{nu, 0.0}, Vec<2>::zero(), options);
+  auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt);
+  auto drho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.drhodt);
+  auto term = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.pressure_term);
+  int pairs = 0;
+  for (int i = 0; i < n; ++i) {
+    Vec<2> acceleration = Vec<2>::zero(), scale = Vec<2>::zero();
+    double density_rate = 0, density_scale = 0;
+    const Vec<2> v_i{{v(i, 0), v(i, 1)}};
+    for (int j = 0; j < n; ++j) {
+      const Vec<2> r{{x(i, 0) - x(j, 0), x(i, 1) - x(j, 1)}};
+      const double distance = std::sqrt(dot(r, r));
+      if (j == i || distance >= kernel.cutoff) continue;
+      ++pairs;
+      const double F = kernel.derivative_over_r(distance);
+      const Vec<2> v_ij = v_i - Vec<2>{{v(j, 0), v(j, 1)}};
+      const double c = continuity_rate(m(j), v_ij, r, F);
+      const Vec<2> terms[3] = {pressure_acceleration(m(j), term(i), term(j), r, F),
+                               viscous_acceleration(m(j), nu, 1 / rho(i), 1 / rho(j), v_ij, F),
+                               convective_acceleration(m(j) / rho(j), v_i, v_ij, r, F)};
+      density_rate += c, density_scale += std::abs(c);
+      for (const auto& t : terms)
+        for (int d = 0; d < 2; ++d) acceleration[d] += t[d], scale[d] += std::abs(t[d]);
+    }
+    EXPECT_NEAR(drho(i), density_rate, 1e-13 * density_scale) << i;
+    for (int d = 0; d < 2; ++d) EXPECT_NEAR(a(i, d), acceleration[d], 1e-13 * scale[d]) << i << " " << d;
+  }
+  EXPECT_GT(pairs, 10 * n);  // particles with many neighbours: the sums are not near-empty
 }
 
 }  // namespace
