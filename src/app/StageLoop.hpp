@@ -163,11 +163,12 @@ class StageLoop {
                                                           (8 * scene.kinematic_viscosity);
     double largest_side = 0;
     for (int d = 0; d < Dim; ++d) largest_side = std::max(largest_side, scene.cell_size[d]);
+    const double acoustic_time = largest_side / sim.derived().sound_speed;  // L / c
     // A warm start is judged on means over the acoustic period L / c: 20
     // samples in it, so that the mean is a mean and the stop is not held to
     // the next of a few checks (problem III's finest level: a check every 40
     // steps, not 100).
-    if (warm_started_) shortest_scale = std::min(shortest_scale, largest_side / sim.derived().sound_speed);
+    if (warm_started_) shortest_scale = std::min(shortest_scale, acoustic_time);
     const long long check_interval =
         static_cast<long long>(std::clamp(std::floor(shortest_scale / (20 * dt)), 1.0, 100.0));
 
@@ -189,7 +190,7 @@ class StageLoop {
     if (axis_ >= 0 && scene.kinematic_viscosity > 0) {
       // A warm start excites the slowest acoustic mode: judged over its period.
       PermeabilityMonitor<Dim> monitor(axis_, scene.kinematic_viscosity, force, context_.porosity,
-                                       largest_side / sim.derived().sound_speed, scene.steady_window,
+                                       acoustic_time, scene.steady_window,
                                        scene.steady_tolerance, warm_started_);
       permeability_ = std::make_unique<PermeabilityProbe<Dim, Sim>>(
           sim, std::move(monitor), axis_, check_interval, scene.steady_tolerance > 0,

@@ -49,9 +49,10 @@ void take_level_start(const ExecSpace& space, const Particles<Dim, typename Exec
           p_start(i) = rule.sound_speed_sq * rule.density + rule.scale * values(i, Dim);
         }
         double taken[Dim + 1];
-        for (int c = 0; c <= Dim; ++c)
-          taken[c] = continued_value(values(i, c), continue_change ? start_values(i, c) : 0.0,
-                                     continue_change ? rule.extrapolation : 0.0, rule.scale);
+        for (int c = 0; c <= Dim; ++c) {
+          const double now = values(i, c);  // no start read without a change to continue: it may be empty
+          taken[c] = continued_value(now, continue_change ? start_values(i, c) : now, rule.extrapolation, rule.scale);
+        }
         for (int d = 0; d < Dim; ++d) v(i, d) = taken[d];
         rho(i) = rule.density + taken[Dim] / rule.sound_speed_sq;
       });
