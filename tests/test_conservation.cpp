@@ -85,6 +85,44 @@ TYPED_TEST(Conservation, FixedParticlesWithConvectionNearlyConserveMomentum) {
   EXPECT_LT(after.scale, 0.99 * before.scale);
 }
 
+// n free fluid particles in the unit square, each drawn by
+// draw(rng, x, v, rho, m) (host values), with their pressures (c^2 = 10),
+// list within the kernel's support and pair sums: what a pair-loop test
+// needs besides the loop.
+template <class Space>
+struct FluidCluster {
+  using Memory = typename Space::memory_space;
+  Particles<2, Memory> P;
+  typename Particles<2, Memory>::Vector::HostMirror x, v;
+  typename Particles<2, Memory>::Scalar::HostMirror rho, m;
+  QuinticKernel<2> kernel;
+  CellList<2, Space> cells;
+  NeighbourList<2, Space> neighbours;
+  PairSums<Space> sums{RateComponents<2>::count(false)};
+
+  template <class Draw>
+  FluidCluster(const Space& space, int n, double h, unsigned seed, Draw&& draw) : kernel(h) {
+    P.reserve(n);
+    P.owned = n;
+    x = Kokkos::create_mirror_view(P.x), v = Kokkos::create_mirror_view(P.v);
+    rho = Kokkos::create_mirror_view(P.rho), m = Kokkos::create_mirror_view(P.m);
+    auto kind = Kokkos::create_mirror_view(P.kind);
+    std::mt19937 rng(seed);
+    for (int i = 0; i < n; ++i) {
+      double xi[2], vi[2];
+      draw(rng, xi, vi, rho(i), m(i));
+      for (int d = 0; d < 2; ++d) x(i, d) = xi[d], v(i, d) = vi[d];
+      kind(i) = kFluid;
+    }
+    Kokkos::deep_copy(P.x, x), Kokkos::deep_copy(P.v, v), Kokkos::deep_copy(P.rho, rho);
+    Kokkos::deep_copy(P.m, m), Kokkos::deep_copy(P.kind, kind);
+    update_pressure(space, P, 10.0, 0.0);
+    cells.build(space, P.x, n, Vec<2>{{0, 0}}, Vec<2>{{1, 1}}, kernel.cutoff);
+    neighbours.build(space, cells, P.x, n, kernel.cutoff);
+    sums.reserve(n);
+  }
+};
+
 // The pair loop's forces on an isolated cluster: sum m a = 0 always, and
 // sum m x cross a = 0 for the central pressure force. (Morris's viscous term
 // acts along v_ab, not r_ab, so it does not conserve angular momentum:
@@ -93,38 +131,22 @@ TYPED_TEST(Conservation, PressureForcesConserveAngularMomentum) {
   using Space = TypeParam;
   const Space space;
   const int n = 400;
-  Particles<2, typename Space::memory_space> P;
-  P.reserve(n);
-  P.owned = n;
-  auto x = Kokkos::create_mirror_view(P.x);
-  auto v = Kokkos::create_mirror_view(P.v);
-  auto rho = Kokkos::create_mirror_view(P.rho);
-  auto m = Kokkos::create_mirror_view(P.m);
-  auto kind = Kokkos::create_mirror_view(P.kind);
-  std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (int i = 0; i < n; ++i) {
+  FluidCluster<Space> cluster(space, n, 0.03, 3, [&](std::mt19937& rng, double* x, double* v, double& rho, double& m) {
     double r;
     do {
-      x(i, 0) = 0.3 * u(rng), x(i, 1) = 0.3 * u(rng);
-      r = std::hypot(x(i, 0), x(i, 1));
+      x[0] = 0.3 * u(rng), x[1] = 0.3 * u(rng);
+      r = std::hypot(x[0], x[1]);
     } while (r > 0.3);
-    x(i, 0) += 0.5, x(i, 1) += 0.5;
-    v(i, 0) = 0.1 * u(rng), v(i, 1) = 0.1 * u(rng);
-    rho(i) = 1.0 + 0.05 * u(rng);
-    m(i) = 1e-3 * (1 + 0.1 * u(rng));
-    kind(i) = kFluid;
-  }
-  Kokkos::deep_copy(P.x, x), Kokkos::deep_copy(P.v, v), Kokkos::deep_copy(P.rho, rho);
-  Kokkos::deep_copy(P.m, m), Kokkos::deep_copy(P.kind, kind);
-  const QuinticKernel<2> kernel(0.03);
-  update_pressure(space, P, 10.0, 0.0);
-  CellList<2, Space> cells;
-  cells.build(space, P.x, n, Vec<2>{{0, 0}}, Vec<2>{{1, 1}}, kernel.cutoff);
-  NeighbourList<2, Space> neighbours;
-  neighbours.build(space, cells, P.x, n, kernel.cutoff);
-  PairSums<Space> sums(RateComponents<2>::count(false));
-  sums.reserve(n);
+    x[0] += 0.5, x[1] += 0.5;
+    v[0] = 0.1 * u(rng), v[1] = 0.1 * u(rng);
+    rho = 1.0 + 0.05 * u(rng);
+    m = 1e-3 * (1 + 0.1 * u(rng));
+  });
+  const auto &P = cluster.P, &x = cluster.x, &m = cluster.m;
+  const auto& kernel = cluster.kernel;
+  const auto& neighbours = cluster.neighbours;
+  const auto& sums = cluster.sums;
 
   for (double nu : {0.0, 0.01}) {
     compute_pair_rates(space, P, neighbours, sums, kernel, FluidProperties{nu, 0.0}, Vec<2>::zero());
@@ -154,36 +176,19 @@ TYPED_TEST(Conservation, PairLoopRatesAreTheSumsOfThePerEndTerms) {
   const Space space;
   const int n = 300;
   const double nu = 0.01;
-  Particles<2, typename Space::memory_space> P;
-  P.reserve(n);
-  P.owned = n;
-  auto x = Kokkos::create_mirror_view(P.x);
-  auto v = Kokkos::create_mirror_view(P.v);
-  auto rho = Kokkos::create_mirror_view(P.rho);
-  auto m = Kokkos::create_mirror_view(P.m);
-  auto kind = Kokkos::create_mirror_view(P.kind);
-  std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0, 1);
-  for (int i = 0; i < n; ++i) {
-    x(i, 0) = 0.2 + 0.6 * u(rng), x(i, 1) = 0.2 + 0.6 * u(rng);
-    v(i, 0) = 0.1 * (u(rng) - 0.5), v(i, 1) = 0.1 * (u(rng) - 0.5);
-    rho(i) = 1.0 + 0.05 * u(rng);
-    m(i) = 1e-3 * (1 + 0.1 * u(rng));
-    kind(i) = kFluid;
-  }
-  Kokkos::deep_copy(P.x, x), Kokkos::deep_copy(P.v, v), Kokkos::deep_copy(P.rho, rho);
-  Kokkos::deep_copy(P.m, m), Kokkos::deep_copy(P.kind, kind);
-  const QuinticKernel<2> kernel(0.05);
-  update_pressure(space, P, 10.0, 0.0);
-  CellList<2, Space> cells;
-  cells.build(space, P.x, n, Vec<2>{{0, 0}}, Vec<2>{{1, 1}}, kernel.cutoff);
-  NeighbourList<2, Space> neighbours;
-  neighbours.build(space, cells, P.x, n, kernel.cutoff);
-  PairSums<Space> sums(RateComponents<2>::count(false));
-  sums.reserve(n);
+  FluidCluster<Space> cluster(space, n, 0.05, 5, [&](std::mt19937& rng, double* x, double* v, double& rho, double& m) {
+    x[0] = 0.2 + 0.6 * u(rng), x[1] = 0.2 + 0.6 * u(rng);
+    v[0] = 0.1 * (u(rng) - 0.5), v[1] = 0.1 * (u(rng) - 0.5);
+    rho = 1.0 + 0.05 * u(rng);
+    m = 1e-3 * (1 + 0.1 * u(rng));
+  });
+  const auto &P = cluster.P, &x = cluster.x, &v = cluster.v, &rho = cluster.rho, &m = cluster.m;
+  const auto& kernel = cluster.kernel;
   PairLoopOptions options;
   options.convection = true;
-  compute_pair_rates(space, P, neighbours, sums, kernel, FluidProperties{nu, 0.0}, Vec<2>::zero(), options);
+  compute_pair_rates(space, P, cluster.neighbours, cluster.sums, kernel, FluidProperties{nu, 0.0}, Vec<2>::zero(),
+                     options);
   auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt);
   auto drho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.drhodt);
   auto term = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.pressure_term);
