@@ -259,8 +259,10 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::built_neighbourhood() {
   if (fixed_) neighbourhood_.list().cache_geometry(space_, particles_.x, particles_.owned, kernel_);
-  if (extrapolate_walls_)
+  if (extrapolate_walls_) {
     wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
+    if (fixed_) wall_neighbours_.cache_geometry(space_, particles_.x, particles_.owned, kernel_);
+  }
   pair_sums_.reserve(particles_.owned);
 }
 

@@ -75,6 +75,8 @@ class WallNeighbours {
         total);
     if (static_cast<int>(indices_.extent(0)) < total)
       indices_ = IndexView("WallNeighbours::indices", total + total / 4 + 1);
+    entries_ = total;
+    cached_ = false;
     const auto indices = indices_;
     static const std::string label_fill = "poresph::WallNeighbours::fill";
     Kokkos::parallel_for(
@@ -89,8 +91,39 @@ class WallNeighbours {
   KOKKOS_INLINE_FUNCTION int end(int i) const { return offsets_(i + 1); }
   KOKKOS_INLINE_FUNCTION int neighbour(int k) const { return indices_(k); }
 
+  // Fixed particles: the separation r_wf and the kernel value W_wf of every
+  // entry, computed once after the build (as NeighbourList::cache_geometry
+  // does for the pair loop), so that the extrapolation at every stage reads
+  // them instead of evaluating a square root and the kernel per pair.
+  template <class PositionView, class Kernel>
+  void cache_geometry(const ExecSpace& space, const PositionView& x, int owned, const Kernel& kernel) {
+    if (static_cast<int>(geometry_.extent(0)) < entries_)
+      geometry_ = GeometryView("WallNeighbours::geometry", entries_ + entries_ / 4 + 1);
+    const auto offsets = offsets_, indices = indices_;
+    const auto geometry = geometry_;
+    static const std::string label = "poresph::WallNeighbours::cache_geometry";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int w) {
+          const Vec<Dim> x_w = row<Dim>(x, w);
+          for (int k = offsets(w); k < offsets(w + 1); ++k) {
+            const Vec<Dim> r = x_w - row<Dim>(x, indices(k));
+            for (int d = 0; d < Dim; ++d) geometry(k, d) = r[d];
+            geometry(k, Dim) = kernel.value(math::sqrt(dot(r, r)));
+          }
+        });
+    space.fence();
+    cached_ = true;
+  }
+  bool has_geometry() const { return cached_; }
+  KOKKOS_INLINE_FUNCTION double separation(int k, int d) const { return geometry_(k, d); }
+  KOKKOS_INLINE_FUNCTION double weight(int k) const { return geometry_(k, Dim); }
+
  private:
+  using GeometryView = Kokkos::View<double* [Dim + 1], Kokkos::LayoutRight, MemorySpace>;
   IndexView offsets_, indices_;
+  GeometryView geometry_;
+  int entries_ = 0;
+  bool cached_ = false;
 };
 
 // Sets p, rho = p / c^2 and the pair loop's factors of every owned boundary
@@ -103,6 +136,7 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
                                const Vec<Dim>& body_force, double sound_speed_sq, double rest_density,
                                double reference_pressure, double volume_density) {
   const auto Q = P;
+  const bool cached = walls.has_geometry();
   static const std::string label = "poresph::extrapolate_wall_pressure";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int w) {
@@ -112,8 +146,15 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
         Vec<Dim> sum_rho_r_w = Vec<Dim>::zero();
         for (int k = walls.begin(w); k < walls.end(w); ++k) {
           const int f = walls.neighbour(k);
-          const Vec<Dim> r = x_w - row<Dim>(Q.x, f);
-          const double W = kernel.value(math::sqrt(dot(r, r)));
+          Vec<Dim> r;
+          double W;
+          if (cached) {
+            for (int d = 0; d < Dim; ++d) r[d] = walls.separation(k, d);
+            W = walls.weight(k);
+          } else {
+            r = x_w - row<Dim>(Q.x, f);
+            W = kernel.value(math::sqrt(dot(r, r)));
+          }
           sum_w += W;
           sum_pw += Q.p(f) * W;
           sum_rho_r_w += (Q.rho(f) * W) * r;
