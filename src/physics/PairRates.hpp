@@ -122,10 +122,11 @@ struct PairRates {
   QuinticKernel<Dim> kernel;
   FluidProperties fluid;
   bool cached;  // the list carries each pair's separation and F (fixed particles)
-  // Whether a pair of two boundary particles gives anything: the continuity
-  // of their densities (PairLoopOptions::wall_continuity); otherwise such a
-  // pair (a wall's or a grain's inside, about a tenth of a channel's pairs)
-  // is skipped, its terms would be thrown away.
+  // Whether a boundary particle takes anything from its pairs: the
+  // continuity of its density (PairLoopOptions::wall_continuity). Otherwise
+  // its end of every pair is left out, its terms would be thrown away, and a
+  // pair of two boundary particles (a wall's or a grain's inside, about a
+  // tenth of a channel's pairs) is skipped.
   bool boundary_pairs = true;
 
   // "poresph::PairRates<surfaces,convection>": what profiles show.
@@ -239,8 +240,12 @@ struct PairRates {
   KOKKOS_FORCEINLINE_FUNCTION void add_pair(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int b,
                                             const Vec<Dim>& r, double F) const {
     const PairEnd<Dim> end_b = end_of(b);
-    if constexpr (WithSurfaces)
-      if (!boundary_pairs && end_a.kind != kFluid && end_b.kind != kFluid) return;
+    // Which ends need the pair's terms: a boundary particle only without
+    // boundary_pairs, where its rates are thrown away (a ghost end never:
+    // its owner adds the pair to it).
+    const bool a_takes = !WithSurfaces || boundary_pairs || end_a.kind == kFluid;
+    const bool b_takes = BothEnds && (!WithSurfaces || boundary_pairs || end_b.kind == kFluid);
+    if (!a_takes && !b_takes) return;
     if constexpr (BothEnds && !WithShifting) {
       if (!WithSurfaces || (end_a.kind == kFluid && end_b.kind == kFluid)) {
         Sums sum_b;
@@ -250,8 +255,8 @@ struct PairRates {
       }
     }
     const SharedPairTerms<Dim> t = shared_terms(end_a, end_b, r, F);
-    add(sum_a, end_a, end_b, t, 1.0);
-    if constexpr (BothEnds) {
+    if (a_takes) add(sum_a, end_a, end_b, t, 1.0);
+    if (b_takes) {
       Sums sum_b;
       add(sum_b, end_b, end_a, t, -1.0);
       for (int c = 0; c < Sums::count; ++c) sums.add(copy, b, c, sum_b.value[c]);
