@@ -62,10 +62,11 @@ SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   fields *= 1.25;  // Particles::reserve grows by a quarter
   // Half of the neighbours within 3h (+ skin for moving particles), 4-byte
   // indices grown by a quarter, plus offsets; fixed particles cache each
-  // entry's separation and kernel derivative besides, D + 1 doubles.
+  // entry's separation and kernel derivative besides, D + 1 doubles, and
+  // with surfaces its no-slip factor, one more.
   const double pairs = 0.5 * neighbour_ball(s);
   double list = (pairs * 4 + 2 * 4) * 1.25;
-  if (s.particle_motion == ParticleMotion::Fixed) list += pairs * (D + 1) * 8.0;
+  if (s.particle_motion == ParticleMotion::Fixed) list += pairs * (D + 1 + (surfaces ? 1 : 0)) * 8.0;
   const double sums = std::max(1, threads) * (D + 1.0 + (shifting ? D + 1.0 : 0.0)) * 8;
   const double cells = 2 * 4;
   // SeedParticle (x, v, wall_vector, wall_scalar, id, kind) and, with a

@@ -259,6 +259,10 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::built_neighbourhood() {
   if (fixed_) neighbourhood_.list().cache_geometry(space_, particles_.x, particles_.owned, kernel_);
+  if (fixed_ && particles_.has_surfaces)
+    no_slip_factors_.build(space_, particles_, neighbourhood_.list(), fluid_.min_surface_distance);
+  else
+    no_slip_factors_.clear();
   if (extrapolate_walls_) {
     wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
     if (fixed_) wall_neighbours_.cache_geometry(space_, particles_.x, particles_.owned, kernel_);
@@ -270,7 +274,7 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::compute_rates() {
   refresh_neighbourhood();
   compute_pair_rates(space_, particles_, neighbourhood_.list(), pair_sums_, kernel_, fluid_, body_force_,
-                     pair_options_);
+                     pair_options_, no_slip_factors_);
   space_.fence();
 }
 

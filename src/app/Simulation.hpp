@@ -176,6 +176,7 @@ class Simulation {
   QuinticKernel<Dim> kernel_;
   Neighbourhood<Dim, ExecSpace> neighbourhood_;  // ghosts, cells, the pair list
   WallNeighbours<Dim, ExecSpace> wall_neighbours_;  // with an extrapolated wall pressure
+  NoSlipFactors<Dim, ExecSpace> no_slip_factors_;   // fixed particles with surfaces, per list entry
   PairSums<ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;

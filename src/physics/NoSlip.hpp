@@ -7,7 +7,10 @@
 //   v_aB = u_a - u_B = (1 + d_B / d_a) (u_a - u_w).
 #include <Kokkos_Core.hpp>
 
+#include <string>
+
 #include "core/Math.hpp"
+#include "core/NeighbourList.hpp"
 #include "core/Particles.hpp"
 #include "core/Vec.hpp"
 
@@ -72,5 +75,64 @@ KOKKOS_INLINE_FUNCTION double no_slip_factor(const SurfaceDistances<Dim>& s, dou
   const double d_a = s.fluid > min_fluid_distance ? s.fluid : min_fluid_distance;
   return 1.0 + s.boundary / d_a;
 }
+
+// The factor above for boundary particle `other` (of kind other_kind) as
+// fluid particle `self` sees it at r = x_self - x_other, from what Particles
+// store of both.
+template <int Dim, class MemorySpace>
+KOKKOS_INLINE_FUNCTION double no_slip_factor_seen(const Particles<Dim, MemorySpace>& P, int self, int other,
+                                                  int other_kind, const Vec<Dim>& r, double min_fluid_distance) {
+  Vec<Dim> normal_self{};  // self's own surface: read for a sampled one only
+  double distance_self = 0.0;
+  if (other_kind == kSampledBoundary) {
+    normal_self = row<Dim>(P.wall_vector, self);
+    distance_self = P.wall_scalar(self);
+  }
+  const SurfaceDistances<Dim> s = surface_distances<Dim>(other_kind, row<Dim>(P.wall_vector, other),
+                                                         P.wall_scalar(other), r, normal_self, distance_self);
+  return no_slip_factor(s, min_fluid_distance);
+}
+
+// Fixed particles: the no-slip factor of every entry of the pair list with
+// one fluid and one boundary end, computed once after the list is built (the
+// distances never change), so that the pair loop reads it for those pairs
+// instead of recomputing the surface distances at every stage. Entries of
+// two fluid or two boundary particles hold nothing and are never read.
+template <int Dim, class ExecSpace>
+class NoSlipFactors {
+ public:
+  using MemorySpace = typename ExecSpace::memory_space;
+
+  void build(const ExecSpace& space, const Particles<Dim, MemorySpace>& P, const NeighbourList<Dim, ExecSpace>& list,
+             double min_fluid_distance) {
+    if (static_cast<long long>(factors_.extent(0)) < list.pairs())
+      factors_ = Kokkos::View<double*, MemorySpace>("NoSlipFactors", list.pairs() + list.pairs() / 4 + 1);
+    const auto factors = factors_;
+    const auto Q = P;
+    static const std::string label = "poresph::NoSlipFactors::build";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int a) {
+          for (int k = list.begin(a); k < list.end(a); ++k) {
+            const int b = list.neighbour(k);
+            const int kind_a = Q.kind(a), kind_b = Q.kind(b);
+            Vec<Dim> r;
+            for (int d = 0; d < Dim; ++d) r[d] = list.separation(k, d);
+            if (kind_a == kFluid && kind_b != kFluid)
+              factors(k) = no_slip_factor_seen(Q, a, b, kind_b, r, min_fluid_distance);
+            else if (kind_a != kFluid && kind_b == kFluid)
+              factors(k) = no_slip_factor_seen(Q, b, a, kind_a, -1.0 * r, min_fluid_distance);
+          }
+        });
+    space.fence();
+    built_ = true;
+  }
+  void clear() { built_ = false; }
+  bool built() const { return built_; }
+  KOKKOS_INLINE_FUNCTION double factor(int entry) const { return factors_(entry); }
+
+ private:
+  Kokkos::View<double*, MemorySpace> factors_;
+  bool built_ = false;
+};
 
 }  // namespace poresph

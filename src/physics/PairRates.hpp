@@ -128,6 +128,8 @@ struct PairRates {
   // pair of two boundary particles (a wall's or a grain's inside, about a
   // tenth of a channel's pairs) is skipped.
   bool boundary_pairs = true;
+  NoSlipFactors<Dim, ExecSpace> no_slip;  // per list entry, when cached_no_slip
+  bool cached_no_slip = false;
 
   // "poresph::PairRates<surfaces,convection>": what profiles show.
   static std::string label() {
@@ -157,36 +159,30 @@ struct PairRates {
   }
 
   // The no-slip factor 1 + d_B / d_a of a boundary particle `other` seen at
-  // separation r (physics/NoSlip.hpp); 1 for a fluid particle.
+  // separation r (physics/NoSlip.hpp), read from the cache for list entry
+  // `entry` (-1: computed); 1 for a fluid particle.
   KOKKOS_FORCEINLINE_FUNCTION double viscous_factor(const PairEnd<Dim>& self, const PairEnd<Dim>& other,
-                                                    const Vec<Dim>& r) const {
+                                                    const Vec<Dim>& r, int entry) const {
     if constexpr (WithSurfaces) {
-      if (other.kind != kFluid) {
-        Vec<Dim> normal_self{};  // self's own surface: read for a sampled one only
-        double distance_self = 0.0;
-        if (other.kind == kSampledBoundary) {
-          normal_self = row<Dim>(P.wall_vector, self.index);
-          distance_self = P.wall_scalar(self.index);
-        }
-        const SurfaceDistances<Dim> s = surface_distances<Dim>(
-            other.kind, row<Dim>(P.wall_vector, other.index), P.wall_scalar(other.index), r, normal_self, distance_self);
-        return no_slip_factor(s, fluid.min_surface_distance);
-      }
+      if (other.kind != kFluid)
+        return entry >= 0 ? no_slip.factor(entry)
+                          : no_slip_factor_seen(P, self.index, other.index, other.kind, r, fluid.min_surface_distance);
     }
-    (void)self, (void)other, (void)r;
+    (void)self, (void)other, (void)r, (void)entry;
     return 1.0;
   }
 
   // Adds to `sum` what `self` gains from `other`; sign = +1 when self is the
-  // pair's a, -1 when it is b (r and v change sign, the continuity does not).
+  // pair's a, -1 when it is b (r and v change sign, the continuity does not);
+  // entry: the pair's list entry where its no-slip factor is cached, or -1.
   KOKKOS_FORCEINLINE_FUNCTION void add(Sums& sum, const PairEnd<Dim>& self, const PairEnd<Dim>& other,
-                                       const SharedPairTerms<Dim>& t, double sign) const {
+                                       const SharedPairTerms<Dim>& t, double sign, int entry) const {
     sum.drho() += other.m * t.continuity;
     if (WithSurfaces && self.kind != kFluid) return;  // boundary particles move as their surface prescribes
     const Vec<Dim> r = sign * t.r, v = sign * t.v;
     // v as self sees it: for a boundary neighbour, the fluid velocity
     // relative to the wall's continued linearly into the solid.
-    const double factor = viscous_factor(self, other, r);
+    const double factor = viscous_factor(self, other, r, entry);
     const Vec<Dim> v_seen = factor * v;
     Vec<Dim> acceleration = (other.m * sign) * t.pressure;
     if (WithSurfaces && !WithShifting && fluid.separate_wall_drag && other.kind != kFluid) {
@@ -235,10 +231,10 @@ struct PairRates {
   }
 
   // One pair (a, b) at separation r with F = (1/r) dW/dr: added to a and,
-  // with BothEnds (b owned), to b's copy of the sums.
+  // with BothEnds (b owned), to b's copy of the sums; entry as in add().
   template <bool BothEnds>
   KOKKOS_FORCEINLINE_FUNCTION void add_pair(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int b,
-                                            const Vec<Dim>& r, double F) const {
+                                            const Vec<Dim>& r, double F, int entry) const {
     const PairEnd<Dim> end_b = end_of(b);
     // Which ends need the pair's terms: a boundary particle only without
     // boundary_pairs, where its rates are thrown away (a ghost end never:
@@ -255,10 +251,10 @@ struct PairRates {
       }
     }
     const SharedPairTerms<Dim> t = shared_terms(end_a, end_b, r, F);
-    if (a_takes) add(sum_a, end_a, end_b, t, 1.0);
+    if (a_takes) add(sum_a, end_a, end_b, t, 1.0, entry);
     if (b_takes) {
       Sums sum_b;
-      add(sum_b, end_b, end_a, t, -1.0);
+      add(sum_b, end_b, end_a, t, -1.0, entry);
       for (int c = 0; c < Sums::count; ++c) sums.add(copy, b, c, sum_b.value[c]);
     }
   }
@@ -297,20 +293,22 @@ struct PairRates {
       for (int j = 0; j < kept; ++j) {
         Vec<Dim> r;
         for (int d = 0; d < Dim; ++d) r[d] = r_of[d][j];
-        add_pair<BothEnds>(end_a, sum_a, copy, b_of[j], r, F_of[j]);
+        add_pair<BothEnds>(end_a, sum_a, copy, b_of[j], r, F_of[j], -1);
       }
     }
   }
 
   // The same with the separations and F of a fixed arrangement, cached in
-  // the list: no gather of positions, no kernel evaluation.
+  // the list, and the no-slip factors if they are cached too: no gather of
+  // positions, no kernel evaluation, no surface distances.
   template <bool BothEnds>
   KOKKOS_FORCEINLINE_FUNCTION void add_cached_pairs(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int first,
                                                     int last) const {
     for (int k = first; k < last; ++k) {
       Vec<Dim> r;
       for (int d = 0; d < Dim; ++d) r[d] = neighbours.separation(k, d);
-      add_pair<BothEnds>(end_a, sum_a, copy, neighbours.neighbour(k), r, neighbours.derivative_over_r(k));
+      add_pair<BothEnds>(end_a, sum_a, copy, neighbours.neighbour(k), r, neighbours.derivative_over_r(k),
+                         cached_no_slip ? k : -1);
     }
   }
 
@@ -384,7 +382,7 @@ template <int Dim, class ExecSpace>
 void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
                         const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
                         const QuinticKernel<Dim>& kernel, const FluidProperties& fluid, const Vec<Dim>& body_force,
-                        const PairLoopOptions& options = {}) {
+                        const PairLoopOptions& options = {}, const NoSlipFactors<Dim, ExecSpace>& no_slip = {}) {
   const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
   const ShiftingParameters& shifting = options.shifting;
   const bool shift = P.has_shifting && shifting.coefficient > 0;
@@ -393,7 +391,10 @@ void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename Ex
   auto run = [&](auto surfaces, auto chosen) {
     using Rates = PairRates<Dim, ExecSpace, decltype(surfaces)::value, decltype(chosen)::value>;
     static const std::string label = Rates::label();
-    Kokkos::parallel_for(label, policy, Rates{P, neighbours, sums, kernel, fluid, neighbours.has_geometry(), options.wall_continuity});
+    const bool cached = neighbours.has_geometry();
+    Kokkos::parallel_for(label, policy,
+                         Rates{P, neighbours, sums, kernel, fluid, cached, options.wall_continuity, no_slip,
+                               cached && no_slip.built()});
   };
   using Surfaces = std::true_type;
   using NoSurfaces = std::false_type;
