@@ -271,5 +271,28 @@ TEST(Health, EachCauseIsRecognised) {
   EXPECT_EQ(health_problem<2>(nan_x, still, calm, 1000.0, 0.0, false, limits), kNonFinite);
 }
 
+// The branch-free test of the fast path agrees with the causes: on every
+// combination of the values above, fluid or not, and at each limit exactly.
+TEST(Health, TheFastPathAgreesWithTheCauses) {
+  const HealthLimits limits{1000.0, 0.1, 2.0, 50.0};
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const double values[] = {0.0, 1.0, -1.0, 2.0, 50.0, 60.0, nan, inf, -inf};
+  const double densities[] = {1000.0, 1100.0, 1101.0, 899.0, 900.0, nan, inf, 0.0};
+  int agreed = 0;
+  for (double x : values)
+    for (double v : values)
+      for (double a : values)
+        for (double rho : densities)
+          for (double drhodt : {0.0, nan, -inf})
+            for (bool fluid : {true, false}) {
+              const double xs[2] = {0.5, x}, vs[2] = {v, 0.5}, as[2] = {a, -a};
+              const bool expected = health_problem<2>(xs, vs, as, rho, drhodt, fluid, limits) < 0;
+              EXPECT_EQ(healthy<2>(xs, vs, as, rho, drhodt, fluid, limits), expected)
+                  << x << " " << v << " " << a << " " << rho << " " << drhodt << " " << fluid;
+              agreed += expected;
+            }
+  EXPECT_GT(agreed, 100);  // healthy and unhealthy cases both
+}
+
 }  // namespace
 }  // namespace poresph

@@ -164,8 +164,10 @@ class Simulation {
   // What rests on a fresh neighbourhood: the cached pair geometry of fixed
   // particles, the boundary particles' fluid neighbours, room for the sums.
   void built_neighbourhood();
-  // Stops the run if the step left a particle count change or an unhealthy particle.
-  void check_step();
+  // Stops the run if the step left a particle count change or an unhealthy
+  // particle; known_healthy: the corrector found none here (only the count
+  // is left to check).
+  void check_step(bool known_healthy = false);
   [[noreturn]] void report_failure(const HealthCounts& counts);
 
   SceneConfig scene_;

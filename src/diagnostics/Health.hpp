@@ -67,6 +67,25 @@ KOKKOS_INLINE_FUNCTION int health_problem(const double* x, const double* v, cons
   return -1;
 }
 
+// health_problem(...) < 0 without a branch, for the corrector to check the
+// particles as it writes them (physics/PredictorCorrector.hpp). Any NaN or
+// Inf makes the sum of the differences v - v NaN.
+template <int Dim>
+KOKKOS_INLINE_FUNCTION bool healthy(const double* x, const double* v, const double* a, double rho, double drhodt,
+                                    bool fluid, const HealthLimits& limits) {
+  double differences = (rho - rho) + (drhodt - drhodt);
+  double speed_sq = 0, accel_sq = 0;
+  for (int d = 0; d < Dim; ++d) {
+    differences += (x[d] - x[d]) + (v[d] - v[d]) + (a[d] - a[d]);
+    speed_sq += v[d] * v[d];
+    accel_sq += a[d] * a[d];
+  }
+  const bool within = (math::fabs(rho / limits.reference_density - 1.0) <= limits.density_variation) &
+                      (speed_sq <= limits.speed * limits.speed) &
+                      (accel_sq <= limits.acceleration * limits.acceleration);
+  return (differences == 0.0) & (within | !fluid);
+}
+
 template <int Dim, class Fields>
 KOKKOS_INLINE_FUNCTION int health_problem_of(const Fields& P, int i, const HealthLimits& limits) {
   double x[Dim], v[Dim], a[Dim];

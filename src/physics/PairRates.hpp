@@ -246,7 +246,9 @@ struct PairRates {
       if (!WithSurfaces || (end_a.kind == kFluid && end_b.kind == kFluid)) {
         Sums sum_b;
         add_fluid_pair(sum_a, sum_b, end_a, end_b, r, F);
-        for (int c = 0; c < Sums::count; ++c) sums.add(copy, b, c, sum_b.value[c]);
+        // The density and acceleration: a pair of fluid particles adds no wall drag.
+        for (int c = Components::density; c < Components::acceleration + Dim; ++c)
+          sums.add(copy, b, c, sum_b.value[c]);
         return;
       }
     }

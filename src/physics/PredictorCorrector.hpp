@@ -7,6 +7,7 @@
 
 #include "core/Math.hpp"
 #include "core/Particles.hpp"
+#include "diagnostics/Health.hpp"
 
 namespace poresph {
 
@@ -34,9 +35,11 @@ void predict_to_midpoint(const ExecSpace& space, const Particles<Dim, typename E
         const bool fluid = Q.kind(i) == kFluid;
         const double kappa = drag ? Q.wall_drag(i) : 0.0;
         for (int d = 0; d < Dim; ++d) {
-          Q.x_start(i, d) = Q.x(i, d);
+          if (move) {  // fixed particles keep their x: nothing to start from
+            Q.x_start(i, d) = Q.x(i, d);
+            Q.x(i, d) += half * Q.v(i, d);
+          }
           Q.v_start(i, d) = Q.v(i, d);
-          if (move) Q.x(i, d) += half * Q.v(i, d);
           if (fluid) Q.v(i, d) = velocity_after(Q.v(i, d), Q.dvdt(i, d), kappa, half);
         }
         Q.rho_start(i) = Q.rho(i);
@@ -44,25 +47,41 @@ void predict_to_midpoint(const ExecSpace& space, const Particles<Dim, typename E
       });
 }
 
+// With `health`, the corrector also counts the particles that its step left
+// unhealthy (diagnostics/Health.hpp, the per-step check) as it writes them:
+// one pass over the particles less than checking them afterwards. Returns
+// that count (0 without `health`).
 template <int Dim, class ExecSpace>
-void correct_full_step(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                       double dt, bool move = true, bool wall_drag = false) {
+long long correct_full_step(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                            double dt, bool move = true, bool wall_drag = false, const HealthLimits* health = nullptr) {
   const auto Q = P;
   const bool drag = wall_drag && P.has_surfaces;
+  const bool check = health != nullptr;
+  const HealthLimits limits = check ? *health : HealthLimits{};
+  long long unhealthy = 0;
   static const std::string label_correct_full_step = "poresph::correct_full_step";
-  Kokkos::parallel_for(
-      label_correct_full_step, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+  Kokkos::parallel_reduce(
+      label_correct_full_step, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned),
+      KOKKOS_LAMBDA(int i, long long& count) {
         const bool fluid = Q.kind(i) == kFluid;
         const double kappa = drag ? Q.wall_drag(i) : 0.0;
+        double x[Dim], v[Dim], a[Dim];
         for (int d = 0; d < Dim; ++d) {
           const double v_start = Q.v_start(i, d);
-          const double v_end = fluid ? velocity_after(v_start, Q.dvdt(i, d), kappa, dt) : v_start;
-          Q.v(i, d) = v_end;
+          a[d] = Q.dvdt(i, d);
+          v[d] = fluid ? velocity_after(v_start, a[d], kappa, dt) : v_start;
+          Q.v(i, d) = v[d];
           // Trapezoidal positions: second order, and exact for boundary particles.
-          if (move) Q.x(i, d) = Q.x_start(i, d) + 0.5 * dt * (v_start + v_end);
+          if (move) Q.x(i, d) = Q.x_start(i, d) + 0.5 * dt * (v_start + v[d]);
+          x[d] = check && move ? Q.x(i, d) : 0.0;  // fixed particles' x never changes
         }
-        Q.rho(i) = Q.rho_start(i) + dt * Q.drhodt(i);
-      });
+        const double drhodt = Q.drhodt(i);
+        const double rho = Q.rho_start(i) + dt * drhodt;
+        Q.rho(i) = rho;
+        if (check) count += healthy<Dim>(x, v, a, rho, drhodt, fluid, limits) ? 0 : 1;
+      },
+      unhealthy);
+  return unhealthy;
 }
 
 }  // namespace poresph
