@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <string>
 
 #include "Scenes.hpp"
 #include "TestSpaces.hpp"
@@ -145,6 +147,28 @@ TYPED_TEST(FixedParticles, CachedWallWeightsGiveTheWallPressureOfMovingParticles
     EXPECT_NEAR(p_fixed(i), p_moving(i), 1e-12 * std::abs(p_moving(i))) << i;
   }
   EXPECT_GT(walls, 0);
+}
+
+// The corrector checks the fixed particles it writes (the per-step check's
+// pass over the particles is skipped when it found none unhealthy): a NaN
+// velocity must still stop the very step that carries it.
+TYPED_TEST(FixedParticles, ANaNVelocityStopsTheStep) {
+  Simulation<2, TypeParam> sim(grain_cell(ParticleMotion::Fixed));
+  for (int s = 0; s < 3; ++s) sim.step();
+  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sim.particles().v);
+  auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sim.particles().kind);
+  int fluid = 0;
+  while (kind(fluid) != kFluid) ++fluid;
+  v(fluid, 1) = std::numeric_limits<double>::quiet_NaN();
+  Kokkos::deep_copy(sim.particles().v, v);
+  std::string message;
+  try {
+    sim.step();
+  } catch (const SimulationFailure& failure) {
+    message = failure.what();
+  }
+  EXPECT_NE(message.find("NaN or Inf"), std::string::npos) << message;
+  EXPECT_EQ(sim.steps(), 4);
 }
 
 TYPED_TEST(FixedParticles, StayOnTheirLatticeWithTheirFirstList) {
