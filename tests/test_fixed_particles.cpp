@@ -12,6 +12,7 @@
 #include "TestSpaces.hpp"
 #include "app/Simulation.hpp"
 #include "geometry/Grains.hpp"
+#include "physics/Density.hpp"
 #include "physics/PredictorCorrector.hpp"
 #include "physics/WallPressure.hpp"
 
@@ -169,6 +170,22 @@ TYPED_TEST(FixedParticles, ANaNVelocityStopsTheStep) {
   }
   EXPECT_NE(message.find("NaN or Inf"), std::string::npos) << message;
   EXPECT_EQ(sim.steps(), 4);
+}
+
+// The pair loop takes m and 1/rho as constants when every particle has the
+// same mass (a fixed lattice): common_mass must see a single odd one.
+TYPED_TEST(FixedParticles, CommonMassIsZeroIfOneParticleDiffers) {
+  Simulation<2, TypeParam> sim(grain_cell(ParticleMotion::Fixed));
+  auto& P = sim.particles();
+  const TypeParam space;
+  const double mass = common_mass(space, P, P.total());
+  auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.m);
+  EXPECT_EQ(mass, m(0));
+  EXPECT_GT(mass, 0.0);
+  m(P.total() - 1) *= 1 + 1e-15;  // the last ghost
+  Kokkos::deep_copy(P.m, m);
+  EXPECT_EQ(common_mass(space, P, P.total()), 0.0);
+  EXPECT_EQ(common_mass(space, P, P.total() - 1), mass);
 }
 
 TYPED_TEST(FixedParticles, StayOnTheirLatticeWithTheirFirstList) {

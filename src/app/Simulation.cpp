@@ -267,6 +267,9 @@ void Simulation<Dim, ExecSpace>::built_neighbourhood() {
     wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
     if (fixed_) wall_neighbours_.cache_geometry(space_, particles_.x, particles_.owned, kernel_);
   }
+  // Fixed particles' volumes use rho0: with one mass, m and 1/rho are constants of the pair loop.
+  pair_options_.uniform_mass = fixed_ ? common_mass(space_, particles_, particles_.total()) : 0.0;
+  pair_options_.uniform_inverse_density = pair_options_.uniform_mass > 0 ? 1.0 / volume_density_ : 0.0;
   pair_sums_.reserve(particles_.owned);
 }
 

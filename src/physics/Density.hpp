@@ -2,6 +2,8 @@
 // Equation of state and density re-initialisation by summation.
 #include <Kokkos_Core.hpp>
 
+#include <string>
+
 #include "core/NeighbourList.hpp"
 #include "core/Kernel.hpp"
 #include "core/Math.hpp"
@@ -69,6 +71,24 @@ void resum_fluid_density(const ExecSpace& space, const Particles<Dim, typename E
         const double neighbours_sum = sums.take(a, 0);  // taken for every particle: the copies return to zero
         if (kind(a) == kFluid) rho(a) = m(a) * kernel.value(0.0) + neighbours_sum;
       });
+}
+
+// The mass that particles [0, count) all have, owned and ghost, or 0 if
+// they differ: a fixed lattice's are rho0 dx^N (PairLoopOptions::uniform_mass).
+template <int Dim, class ExecSpace>
+double common_mass(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P, int count) {
+  if (count == 0) return 0.0;
+  double lightest = 0, heaviest = 0;
+  const auto m = P.m;
+  static const std::string label_lightest = "poresph::common_mass::lightest";
+  static const std::string label_heaviest = "poresph::common_mass::heaviest";
+  Kokkos::parallel_reduce(
+      label_lightest, Kokkos::RangePolicy<ExecSpace>(space, 0, count),
+      KOKKOS_LAMBDA(int i, double& least) { least = m(i) < least ? m(i) : least; }, Kokkos::Min<double>(lightest));
+  Kokkos::parallel_reduce(
+      label_heaviest, Kokkos::RangePolicy<ExecSpace>(space, 0, count),
+      KOKKOS_LAMBDA(int i, double& most) { most = m(i) > most ? m(i) : most; }, Kokkos::Max<double>(heaviest));
+  return lightest == heaviest && lightest > 0 ? lightest : 0.0;
 }
 
 }  // namespace poresph

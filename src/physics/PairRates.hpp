@@ -47,6 +47,11 @@ struct PairLoopOptions {
   // false when their pressure is extrapolated from the fluid instead
   // (physics/WallPressure.hpp), and their density is no state of its own.
   bool wall_continuity = true;
+  // Fixed particles of one mass whose volumes use rho0 (the caller checks
+  // after each list build): every neighbour's m and 1/rho are these, taken
+  // as constants instead of read per pair. 0: read them.
+  double uniform_mass = 0;
+  double uniform_inverse_density = 0;
 };
 
 // What the pair loop adds beyond the continuity, pressure and viscous terms:
@@ -130,6 +135,7 @@ struct PairRates {
   bool boundary_pairs = true;
   NoSlipFactors<Dim, ExecSpace> no_slip;  // per list entry, when cached_no_slip
   bool cached_no_slip = false;
+  double uniform_mass = 0, uniform_inverse_density = 0;  // PairLoopOptions
 
   // "poresph::PairRates<surfaces,convection>": what profiles show.
   static std::string label() {
@@ -142,7 +148,9 @@ struct PairRates {
   KOKKOS_FORCEINLINE_FUNCTION PairEnd<Dim> end_of(int i) const {
     int kind = kFluid;
     if constexpr (WithSurfaces) kind = P.kind(i);
-    return {row<Dim>(P.x, i), row<Dim>(P.v, i), P.m(i), P.inverse_density(i), P.pressure_term(i), kind, i};
+    const bool uniform = uniform_mass > 0;  // two arrays fewer to gather from
+    return {row<Dim>(P.x, i), row<Dim>(P.v, i), uniform ? uniform_mass : P.m(i),
+            uniform ? uniform_inverse_density : P.inverse_density(i), P.pressure_term(i), kind, i};
   }
 
   // r = x_a - x_b and F = (1/r) dW/dr, as the first phases computed them.
@@ -396,7 +404,7 @@ void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename Ex
     const bool cached = neighbours.has_geometry();
     Kokkos::parallel_for(label, policy,
                          Rates{P, neighbours, sums, kernel, fluid, cached, options.wall_continuity, no_slip,
-                               cached && no_slip.built()});
+                               cached && no_slip.built(), options.uniform_mass, options.uniform_inverse_density});
   };
   using Surfaces = std::true_type;
   using NoSurfaces = std::false_type;
