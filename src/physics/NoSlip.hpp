@@ -97,7 +97,9 @@ KOKKOS_INLINE_FUNCTION double no_slip_factor_seen(const Particles<Dim, MemorySpa
 // one fluid and one boundary end, computed once after the list is built (the
 // distances never change), so that the pair loop reads it for those pairs
 // instead of recomputing the surface distances at every stage. Entries of
-// two fluid or two boundary particles hold nothing and are never read.
+// two fluid or two boundary particles hold nothing and are never read. And
+// which rows of the list have a boundary particle at all: the others take
+// the loop without surfaces.
 template <int Dim, class ExecSpace>
 class NoSlipFactors {
  public:
@@ -107,14 +109,19 @@ class NoSlipFactors {
              double min_fluid_distance) {
     if (static_cast<long long>(factors_.extent(0)) < list.pairs())
       factors_ = Kokkos::View<double*, MemorySpace>("NoSlipFactors", list.pairs() + list.pairs() / 4 + 1);
+    if (static_cast<int>(touches_.extent(0)) < P.owned)
+      touches_ = Kokkos::View<bool*, MemorySpace>("NoSlipFactors::touches", P.owned + P.owned / 4 + 1);
     const auto factors = factors_;
+    const auto touches = touches_;
     const auto Q = P;
     static const std::string label = "poresph::NoSlipFactors::build";
     Kokkos::parallel_for(
         label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int a) {
+          bool touches_surface = Q.kind(a) != kFluid;
           for (int k = list.begin(a); k < list.end(a); ++k) {
             const int b = list.neighbour(k);
             const int kind_a = Q.kind(a), kind_b = Q.kind(b);
+            touches_surface = touches_surface || kind_b != kFluid;
             Vec<Dim> r;
             for (int d = 0; d < Dim; ++d) r[d] = list.separation(k, d);
             if (kind_a == kFluid && kind_b != kFluid)
@@ -122,6 +129,7 @@ class NoSlipFactors {
             else if (kind_a != kFluid && kind_b == kFluid)
               factors(k) = no_slip_factor_seen(Q, b, a, kind_a, -1.0 * r, min_fluid_distance);
           }
+          touches(a) = touches_surface;
         });
     space.fence();
     built_ = true;
@@ -129,9 +137,12 @@ class NoSlipFactors {
   void clear() { built_ = false; }
   bool built() const { return built_; }
   KOKKOS_INLINE_FUNCTION double factor(int entry) const { return factors_(entry); }
+  // Whether owned particle a's row of the list has a boundary particle (a itself or a neighbour).
+  KOKKOS_INLINE_FUNCTION bool touches_surface(int a) const { return touches_(a); }
 
  private:
   Kokkos::View<double*, MemorySpace> factors_;
+  Kokkos::View<bool*, MemorySpace> touches_;
   bool built_ = false;
 };
 

@@ -145,9 +145,12 @@ struct PairRates {
     return "poresph::PairRates" + (extras.empty() ? std::string() : "<" + extras + ">");
   }
 
+  // Surfaces = false: a row of the list without boundary particles, whose
+  // kinds need not be read.
+  template <bool Surfaces = WithSurfaces>
   KOKKOS_FORCEINLINE_FUNCTION PairEnd<Dim> end_of(int i) const {
     int kind = kFluid;
-    if constexpr (WithSurfaces) kind = P.kind(i);
+    if constexpr (Surfaces) kind = P.kind(i);
     const bool uniform = uniform_mass > 0;  // two arrays fewer to gather from
     return {row<Dim>(P.x, i), row<Dim>(P.v, i), uniform ? uniform_mass : P.m(i),
             uniform ? uniform_inverse_density : P.inverse_density(i), P.pressure_term(i), kind, i};
@@ -240,18 +243,18 @@ struct PairRates {
 
   // One pair (a, b) at separation r with F = (1/r) dW/dr: added to a and,
   // with BothEnds (b owned), to b's copy of the sums; entry as in add().
-  template <bool BothEnds>
+  template <bool BothEnds, bool Surfaces>
   KOKKOS_FORCEINLINE_FUNCTION void add_pair(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int b,
                                             const Vec<Dim>& r, double F, int entry) const {
-    const PairEnd<Dim> end_b = end_of(b);
+    const PairEnd<Dim> end_b = end_of<Surfaces>(b);
     // Which ends need the pair's terms: a boundary particle only without
     // boundary_pairs, where its rates are thrown away (a ghost end never:
     // its owner adds the pair to it).
-    const bool a_takes = !WithSurfaces || boundary_pairs || end_a.kind == kFluid;
-    const bool b_takes = BothEnds && (!WithSurfaces || boundary_pairs || end_b.kind == kFluid);
+    const bool a_takes = !Surfaces || boundary_pairs || end_a.kind == kFluid;
+    const bool b_takes = BothEnds && (!Surfaces || boundary_pairs || end_b.kind == kFluid);
     if (!a_takes && !b_takes) return;
     if constexpr (BothEnds && !WithShifting) {
-      if (!WithSurfaces || (end_a.kind == kFluid && end_b.kind == kFluid)) {
+      if (!Surfaces || (end_a.kind == kFluid && end_b.kind == kFluid)) {
         Sums sum_b;
         add_fluid_pair(sum_a, sum_b, end_a, end_b, r, F);
         // The density and acceleration: a pair of fluid particles adds no wall drag.
@@ -278,7 +281,7 @@ struct PairRates {
   //     dependencies between pairs that the compiler vectorises (as scalar
   //     code, the latency of its sqrt and division was a quarter of the step);
   //  3. the terms of each kept pair (add_pair).
-  template <bool BothEnds>
+  template <bool BothEnds, bool Surfaces>
   KOKKOS_FORCEINLINE_FUNCTION void add_pairs(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int first,
                                              int last) const {
     for (int chunk_begin = first; chunk_begin < last; chunk_begin += kPairChunk) {
@@ -303,7 +306,7 @@ struct PairRates {
       for (int j = 0; j < kept; ++j) {
         Vec<Dim> r;
         for (int d = 0; d < Dim; ++d) r[d] = r_of[d][j];
-        add_pair<BothEnds>(end_a, sum_a, copy, b_of[j], r, F_of[j], -1);
+        add_pair<BothEnds, Surfaces>(end_a, sum_a, copy, b_of[j], r, F_of[j], -1);
       }
     }
   }
@@ -311,28 +314,35 @@ struct PairRates {
   // The same with the separations and F of a fixed arrangement, cached in
   // the list, and the no-slip factors if they are cached too: no gather of
   // positions, no kernel evaluation, no surface distances.
-  template <bool BothEnds>
+  template <bool BothEnds, bool Surfaces>
   KOKKOS_FORCEINLINE_FUNCTION void add_cached_pairs(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int first,
                                                     int last) const {
     for (int k = first; k < last; ++k) {
       Vec<Dim> r;
       for (int d = 0; d < Dim; ++d) r[d] = neighbours.separation(k, d);
-      add_pair<BothEnds>(end_a, sum_a, copy, neighbours.neighbour(k), r, neighbours.derivative_over_r(k),
-                         cached_no_slip ? k : -1);
+      add_pair<BothEnds, Surfaces>(end_a, sum_a, copy, neighbours.neighbour(k), r, neighbours.derivative_over_r(k),
+                                   cached_no_slip ? k : -1);
     }
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(int a) const {
-    const PairEnd<Dim> end_a = end_of(a);
+    if constexpr (WithSurfaces)  // most rows of a scene with surfaces have no boundary particle
+      if (cached_no_slip && !no_slip.touches_surface(a)) return rates_of<false>(a);
+    rates_of<WithSurfaces>(a);
+  }
+
+  template <bool Surfaces>
+  KOKKOS_FORCEINLINE_FUNCTION void rates_of(int a) const {
+    const PairEnd<Dim> end_a = end_of<Surfaces>(a);
     Sums sum_a;
     const int copy = sums.acquire();
     const int ghosts_begin = neighbours.ghosts_begin(a);
     if (cached) {
-      add_cached_pairs<true>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);
-      add_cached_pairs<false>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));
+      add_cached_pairs<true, Surfaces>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);
+      add_cached_pairs<false, Surfaces>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));
     } else {
-      add_pairs<true>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);  // owned neighbours
-      add_pairs<false>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));   // ghosts
+      add_pairs<true, Surfaces>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);  // owned neighbours
+      add_pairs<false, Surfaces>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));   // ghosts
     }
     for (int c = 0; c < Sums::count; ++c) sums.add(copy, a, c, sum_a.value[c]);
     sums.release(copy);
