@@ -21,6 +21,27 @@
 
 namespace poresph {
 
+// For rows i < rows of a list in CSR form (entries [offsets(i),
+// offsets(i+1)) naming particles by indices(k)): each entry's separation r =
+// x_i - x_indices(k) into geometry(k, 0..Dim-1), and of_distance(|r|) into
+// geometry(k, Dim). Fixed particles cache what the pair loop and the wall
+// pressure would otherwise evaluate at every stage.
+template <int Dim, class ExecSpace, class IndexView, class PositionView, class GeometryView, class OfDistance>
+void cache_separations(const ExecSpace& space, const std::string& label, const IndexView& offsets,
+                       const IndexView& indices, const PositionView& x, int rows, const GeometryView& geometry,
+                       const OfDistance& of_distance) {
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(space, 0, rows), KOKKOS_LAMBDA(int i) {
+        const Vec<Dim> xi = row<Dim>(x, i);
+        for (int k = offsets(i); k < offsets(i + 1); ++k) {
+          const Vec<Dim> r = xi - row<Dim>(x, indices(k));
+          for (int d = 0; d < Dim; ++d) geometry(k, d) = r[d];
+          geometry(k, Dim) = of_distance(math::sqrt(dot(r, r)));
+        }
+      });
+  space.fence();
+}
+
 template <int Dim, class ExecSpace>
 class NeighbourList {
  public:
@@ -107,19 +128,9 @@ class NeighbourList {
   void cache_geometry(const ExecSpace& space, const PositionView& x, int owned, const Kernel& kernel) {
     if (static_cast<long long>(geometry_.extent(0)) < pairs_)
       geometry_ = GeometryView("NeighbourList::geometry", pairs_);
-    const auto offsets = offsets_, indices = indices_;
-    const auto geometry = geometry_;
     static const std::string label = "poresph::NeighbourList::cache_geometry";
-    Kokkos::parallel_for(
-        label, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int i) {
-          const Vec<Dim> xi = row<Dim>(x, i);
-          for (int k = offsets(i); k < offsets(i + 1); ++k) {
-            const Vec<Dim> r = xi - row<Dim>(x, indices(k));
-            for (int d = 0; d < Dim; ++d) geometry(k, d) = r[d];
-            geometry(k, Dim) = kernel.derivative_over_r(math::sqrt(dot(r, r)));
-          }
-        });
-    space.fence();
+    cache_separations<Dim>(space, label, offsets_, indices_, x, owned, geometry_,
+                           KOKKOS_LAMBDA(double r) { return kernel.derivative_over_r(r); });
     cached_ = true;
   }
   bool has_geometry() const { return cached_; }

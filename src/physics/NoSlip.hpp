@@ -117,10 +117,11 @@ class NoSlipFactors {
     static const std::string label = "poresph::NoSlipFactors::build";
     Kokkos::parallel_for(
         label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int a) {
-          bool touches_surface = Q.kind(a) != kFluid;
+          const int kind_a = Q.kind(a);
+          bool touches_surface = kind_a != kFluid;
           for (int k = list.begin(a); k < list.end(a); ++k) {
             const int b = list.neighbour(k);
-            const int kind_a = Q.kind(a), kind_b = Q.kind(b);
+            const int kind_b = Q.kind(b);
             touches_surface = touches_surface || kind_b != kFluid;
             Vec<Dim> r;
             for (int d = 0; d < Dim; ++d) r[d] = list.separation(k, d);

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "core/CellList.hpp"
+#include "core/NeighbourList.hpp"
 #include "core/Kernel.hpp"
 #include "core/Math.hpp"
 #include "core/Particles.hpp"
@@ -99,19 +100,9 @@ class WallNeighbours {
   void cache_geometry(const ExecSpace& space, const PositionView& x, int owned, const Kernel& kernel) {
     if (static_cast<int>(geometry_.extent(0)) < entries_)
       geometry_ = GeometryView("WallNeighbours::geometry", entries_ + entries_ / 4 + 1);
-    const auto offsets = offsets_, indices = indices_;
-    const auto geometry = geometry_;
     static const std::string label = "poresph::WallNeighbours::cache_geometry";
-    Kokkos::parallel_for(
-        label, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int w) {
-          const Vec<Dim> x_w = row<Dim>(x, w);
-          for (int k = offsets(w); k < offsets(w + 1); ++k) {
-            const Vec<Dim> r = x_w - row<Dim>(x, indices(k));
-            for (int d = 0; d < Dim; ++d) geometry(k, d) = r[d];
-            geometry(k, Dim) = kernel.value(math::sqrt(dot(r, r)));
-          }
-        });
-    space.fence();
+    cache_separations<Dim>(space, label, offsets_, indices_, x, owned, geometry_,
+                           KOKKOS_LAMBDA(double r) { return kernel.value(r); });
     cached_ = true;
   }
   bool has_geometry() const { return cached_; }
