@@ -6,7 +6,8 @@
 #   scripts/setup.sh run  [extra poresph arguments]
 #   scripts/setup.sh test [extra ctest arguments]
 #   scripts/setup.sh build
-#   scripts/setup.sh tools   # also the reference tools (FreeFem++ for perf/stokes_reference.py); `test` installs them too
+#   scripts/setup.sh tools   # also the reference tools (FreeFem++ for perf/stokes_reference.py, SciPy for
+#                            # perf/periodic_stokes_spheres.py); `test` installs them too
 #
 # Environment: BUILD_DIR (default build), CMAKE_ARGS (extra configure flags).
 set -euo pipefail
@@ -30,7 +31,7 @@ packages=(
 )
 
 # Not needed to build; their tests run where they are installed (`test`, `tools`).
-tool_packages=(freefem++)
+tool_packages=(freefem++ python3-scipy)
 
 install_missing() {
   local missing=()
