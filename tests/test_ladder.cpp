@@ -237,5 +237,40 @@ TEST(Ladder, LinearityCheckMeasuresInertia) {
   EXPECT_TRUE(warned);
 }
 
+// A stage that seeks a steady k (Permeability/Steady Tolerance > 0) and is
+// cut short by Run/Max Steps says so in the report, naming the level; with
+// no steady test asked for, stopping at Max Steps is what was asked.
+TEST(Ladder, AStageCutShortBeforeASteadyKWarns) {
+  auto unsteady_warnings = [](const RunReport& report) {
+    std::vector<std::string> found;
+    for (const auto& w : report.warnings)
+      if (w.find("k was not steady") != std::string::npos) found.push_back(w);
+    return found;
+  };
+  const auto cut = run(scene_of("square_array/square_array_c50.xml", {"Run/Max Steps=60"}), fresh_directory("cut"));
+  EXPECT_FALSE(cut.steady);
+  auto found = unsteady_warnings(cut);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_NE(found[0].find("when the run ended (step 60)"), std::string::npos) << found[0];
+  EXPECT_NE(found[0].find("Run/Max Steps"), std::string::npos) << found[0];
+
+  const auto ladder = run(scene_of("square_array/square_array_c50.xml", {"Convergence/Levels=2", "Run/Max Steps=60"}),
+                          fresh_directory("cut-ladder"));
+  found = unsteady_warnings(ladder);
+  ASSERT_EQ(found.size(), 2u);
+  EXPECT_NE(found[0].find("level 1 of 2"), std::string::npos) << found[0];
+  EXPECT_NE(found[1].find("level 2 of 2"), std::string::npos) << found[1];
+
+  const auto asked = run(scene_of("square_array/square_array_c50.xml",
+                                  {"Run/Max Steps=60", "Permeability/Steady Tolerance=0"}),
+                         fresh_directory("cut-no-test"));
+  EXPECT_TRUE(unsteady_warnings(asked).empty());
+
+  const auto steady = run(scene_of("square_array/square_array_c50.xml", {"Discretization/Particle Spacing=0.004"}),
+                          fresh_directory("steady"));
+  EXPECT_TRUE(steady.steady);
+  EXPECT_TRUE(unsteady_warnings(steady).empty());
+}
+
 }  // namespace
 }  // namespace poresph

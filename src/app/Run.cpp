@@ -38,15 +38,41 @@ constexpr double kNegligibleComponent = 1e-6;
 // Above this relative change at half the force, the flow is not in Darcy's regime.
 constexpr double kDarcyLinearityLimit = 0.01;
 
+// A stage that sought a steady k and ended without one (Run/End Time or
+// Run/Max Steps came first): its k is not the answer yet, and says so.
+std::string unsteady_warning(const StageRecord& r, int levels, bool tensor) {
+  std::string which = levels > 1 ? "level " + std::to_string(r.level + 1) + " of " + std::to_string(levels) : "the run";
+  if (tensor && r.axis >= 0) which += std::string(" driven along ") + "xyz"[r.axis];
+  if (r.half_force) which += " at half the body force";
+  char text[300];
+  if (std::isfinite(r.relative_change) && std::isfinite(r.remaining_change))
+    std::snprintf(text, sizeof text,
+                  "k was not steady when %s ended (step %lld): it moved by %.2g %% over its last span and may "
+                  "move by %.2g %% more; raise Run/End Time or Run/Max Steps",
+                  which.c_str(), r.steps, 100 * r.relative_change, 100 * r.remaining_change);
+  else
+    std::snprintf(text, sizeof text,
+                  "k was not steady when %s ended (step %lld), too early to say how far it still has to go; "
+                  "raise Run/End Time or Run/Max Steps",
+                  which.c_str(), r.steps);
+  return text;
+}
+
 // What the stages measured, into the report: the finest level's tensor (set
 // by the stages), the ladder's levels and their grid convergence index, the
-// Darcy check, whether every stage was steady.
-void summarise_stages(const std::vector<StageRecord>& records, int dim, int levels, RunReport& report) {
+// Darcy check, whether every stage was steady (a warning for each that
+// sought a steady k and did not reach it).
+void summarise_stages(const std::vector<StageRecord>& records, int dim, int levels, bool steady_sought,
+                      RunReport& report) {
   bool any = false, steady = true;
+  const bool tensor = std::any_of(records.begin(), records.end(), [&](const StageRecord& r) {
+    return r.axis != records.front().axis;
+  });
   for (const auto& r : records) {
     if (!r.has_permeability) continue;
     any = true;
     steady = steady && r.steady;
+    if (steady_sought && !r.steady) report.warnings.push_back(unsteady_warning(r, levels, tensor));
     report.steady_relative_change = std::max(report.steady_relative_change, r.relative_change);
     report.steady_remaining_change = std::max(report.steady_remaining_change, r.remaining_change);
   }
@@ -177,7 +203,7 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
       report.reynolds_number = std::sqrt(speed) / report.porosity * diameter / scene.kinematic_viscosity;
     }
     summarised = report;
-    summarise_stages(records, Dim, stages.front().levels, summarised);
+    summarise_stages(records, Dim, stages.front().levels, scene.steady_tolerance > 0, summarised);
     if (Communicator().rank() == 0)
       write_summary_file(options.output_dir + "/summary.json", summarised.to_json().str() + "\n");
   };

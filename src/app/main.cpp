@@ -157,9 +157,14 @@ int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const p
     for (const auto& warning : scene.warnings) std::cerr << "poresph: warning: " << warning << "\n";
   }
   const auto report = poresph::run_scene(scene, options);
-  if (rank == 0)
+  if (rank == 0) {
+    // What the run itself found (an unsteady k, levels outside the asymptotic range, inertia),
+    // after the scene's own warnings, which were said above.
+    for (size_t w = scene.warnings.size(); w < report.warnings.size(); ++w)
+      std::cerr << "poresph: warning: " << report.warnings[w] << "\n";
     std::cout << "poresph: " << scene.name << ": " << report.steps << " steps to t = " << report.simulated_time
               << " s in " << report.wall_seconds << " s; summary in " << options.output_dir << "/summary.json\n";
+  }
   return 0;
 }
 
