@@ -220,19 +220,14 @@ def regular_single_layer(grid, stokeslet):
     return result
 
 
-def drag(lattice, phi, degree, xi_scale=4.0, free_cache=None):
+def drag(lattice, phi, degree, xi_scale=4.0):
+    """Zick & Homsy's K for the lattice at solid fraction phi, harmonics up
+    to `degree`; also the sphere's radius and its force (U = 1 along x)."""
     primitive = PRIMITIVE[lattice]
     stokeslet = PeriodicStokeslet(primitive, xi_scale)
     a = (3 * phi * stokeslet.volume / (4 * math.pi)) ** (1 / 3)
     grid = SphereGrid(degree, a)
-    key = (degree, a)
-    if free_cache is not None and key in free_cache:
-        free = free_cache[key]
-    else:
-        free = free_single_layer(grid)
-        if free_cache is not None:
-            free_cache[key] = free
-    A = free + regular_single_layer(grid, stokeslet)
+    A = free_single_layer(grid) + regular_single_layer(grid, stokeslet)
     nb = grid.Y.shape[1]
     A = A.reshape(3 * nb, 3 * nb)
     U = np.array([1.0, 0.0, 0.0])
@@ -272,11 +267,10 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     rows = []
     for phi in args.fractions:
-        cache = {}
         previous = None
         for degree in args.degrees:
             start = time.time()
-            K, a, force = drag(args.lattice, phi, degree, args.xi, cache)
+            K, a, force = drag(args.lattice, phi, degree, args.xi)
             change = (K / previous - 1) if previous else float("nan")
             previous = K
             rows.append(dict(lattice=args.lattice, solid_fraction=phi, degree=degree, radius=a, drag_K=K,
