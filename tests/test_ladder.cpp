@@ -12,6 +12,7 @@
 
 #include "app/Run.hpp"
 #include "app/RunPlan.hpp"
+#include "app/RunSummary.hpp"
 #include "app/Simulation.hpp"
 #include "io/Parameters.hpp"
 #include "physics/LevelStart.hpp"
@@ -270,6 +271,41 @@ TEST(Ladder, AStageCutShortBeforeASteadyKWarns) {
                           fresh_directory("steady"));
   EXPECT_TRUE(steady.steady);
   EXPECT_TRUE(unsteady_warnings(steady).empty());
+}
+
+// The same warning from records given directly: a tensor run names the
+// axis and the half-force repeat; a record with no estimate yet says so;
+// steady records, or no steady test, give none.
+TEST(Ladder, TheSummaryWarnsOfEachUnsteadyStage) {
+  auto record = [](int level, int axis, bool half_force, bool steady, double moved, double to_come) {
+    StageRecord r;
+    r.level = level, r.axis = axis, r.half_force = half_force, r.steps = 100 * (level + 1);
+    r.has_permeability = true, r.steady = steady, r.relative_change = moved, r.remaining_change = to_come;
+    r.k[0] = r.k[1] = 1e-9;
+    return r;
+  };
+  const std::vector<StageRecord> records = {
+      record(0, 0, false, true, 1e-4, 1e-4), record(1, 0, false, true, 1e-4, 1e-4),
+      record(0, 1, false, false, 0.02, 0.005), record(1, 1, false, true, 1e-4, 1e-4),
+      record(1, 1, true, false, INFINITY, INFINITY)};
+  RunReport report;
+  summarise_stages(records, 2, 2, true, report);
+  std::vector<std::string> unsteady;
+  for (const auto& w : report.warnings)
+    if (w.find("k was not steady") != std::string::npos) unsteady.push_back(w);
+  ASSERT_EQ(unsteady.size(), 2u);
+  EXPECT_NE(unsteady[0].find("level 1 of 2 driven along y ended (step 100): it moved by 2 % over its last span "
+                             "and may move by 0.5 % more"),
+            std::string::npos)
+      << unsteady[0];
+  EXPECT_NE(unsteady[1].find("level 2 of 2 driven along y at half the body force ended (step 200), too early"),
+            std::string::npos)
+      << unsteady[1];
+  EXPECT_FALSE(report.steady);
+
+  RunReport without_test;
+  summarise_stages(records, 2, 2, false, without_test);
+  for (const auto& w : without_test.warnings) EXPECT_EQ(w.find("k was not steady"), std::string::npos) << w;
 }
 
 }  // namespace

@@ -1,0 +1,135 @@
+#include "app/RunSummary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "diagnostics/ConvergenceIndex.hpp"
+
+namespace poresph {
+namespace {
+
+// A component smaller than this fraction of the largest is taken as zero
+// (the off-diagonal of a symmetric cell): no relative uncertainty for it.
+constexpr double kNegligibleComponent = 1e-6;
+// Above this relative change at half the force, the flow is not in Darcy's regime.
+constexpr double kDarcyLinearityLimit = 0.01;
+
+// A stage that sought a steady k and ended without one (Run/End Time or
+// Run/Max Steps came first): its k is not the answer yet, and says so.
+std::string unsteady_warning(const StageRecord& r, int levels, bool tensor) {
+  std::string which = levels > 1 ? "level " + std::to_string(r.level + 1) + " of " + std::to_string(levels) : "the run";
+  if (tensor && r.axis >= 0) which += std::string(" driven along ") + "xyz"[r.axis];
+  if (r.half_force) which += " at half the body force";
+  char text[300];
+  if (std::isfinite(r.relative_change) && std::isfinite(r.remaining_change))
+    std::snprintf(text, sizeof text,
+                  "k was not steady when %s ended (step %lld): it moved by %.2g %% over its last span and may "
+                  "move by %.2g %% more; raise Run/End Time or Run/Max Steps",
+                  which.c_str(), r.steps, 100 * r.relative_change, 100 * r.remaining_change);
+  else
+    std::snprintf(text, sizeof text,
+                  "k was not steady when %s ended (step %lld), too early to say how far it still has to go; "
+                  "raise Run/End Time or Run/Max Steps",
+                  which.c_str(), r.steps);
+  return text;
+}
+
+}  // namespace
+
+// What the stages measured, into the report: the finest level's tensor (set
+// by the stages), the ladder's levels and their grid convergence index, the
+// Darcy check, whether every stage was steady (a warning for each that
+// sought a steady k and did not reach it).
+void summarise_stages(const std::vector<StageRecord>& records, int dim, int levels, bool steady_sought,
+                      RunReport& report) {
+  bool any = false, steady = true;
+  const bool tensor = std::any_of(records.begin(), records.end(), [&](const StageRecord& r) {
+    return r.axis != records.front().axis;
+  });
+  for (const auto& r : records) {
+    if (!r.has_permeability) continue;
+    any = true;
+    steady = steady && r.steady;
+    if (steady_sought && !r.steady) report.warnings.push_back(unsteady_warning(r, levels, tensor));
+    report.steady_relative_change = std::max(report.steady_relative_change, r.relative_change);
+    report.steady_remaining_change = std::max(report.steady_remaining_change, r.remaining_change);
+  }
+  report.steady = any && steady;
+  // The finest tensor, also from the records (a restart finds earlier columns there).
+  for (const auto& r : records) {
+    if (!r.has_permeability || r.half_force || r.level != levels - 1 || r.axis < 0) continue;
+    report.has_permeability = report.driven[r.axis] = true;
+    for (int i = 0; i < dim; ++i) report.permeability[i][r.axis] = r.k[i];
+  }
+
+  if (levels > 1) {
+    report.levels.assign(levels, RunReport::Level{});
+    for (const auto& r : records) {
+      if (r.half_force) continue;
+      auto& level = report.levels[r.level];
+      level.spacing = r.spacing;
+      level.steps += r.steps;
+      level.wall_seconds += r.wall_seconds;
+      level.warm_started = level.warm_started && r.warm_started;
+      level.steady = level.steady && (!r.has_permeability || r.steady);
+      if (r.has_permeability && r.axis >= 0)
+        for (int i = 0; i < dim; ++i) level.permeability[i][r.axis] = r.k[i];
+    }
+    double largest = 0;
+    for (int i = 0; i < dim; ++i)
+      for (int j = 0; j < dim; ++j) largest = std::max(largest, std::abs(report.permeability[i][j]));
+    report.observed_order = NAN;
+    double order_component = -1;
+    for (int j = 0; j < dim; ++j) {
+      if (!report.driven[j]) continue;
+      for (int i = 0; i < dim; ++i) {
+        std::vector<double> spacings, values;
+        for (const auto& level : report.levels) spacings.push_back(level.spacing), values.push_back(level.permeability[i][j]);
+        const auto e = convergence_estimate(spacings, values);
+        report.permeability_extrapolated[i][j] = e.extrapolated;
+        const bool negligible = std::abs(values.back()) <= kNegligibleComponent * largest;
+        report.permeability_uncertainty[i][j] = negligible ? NAN : e.uncertainty;
+        if (negligible) continue;
+        if (std::abs(values.back()) > order_component) order_component = std::abs(values.back()), report.observed_order = e.order;
+        if (!e.asymptotic) {
+          const std::string name = std::string("k") + "xyz"[i] + "xyz"[j];
+          report.warnings.push_back("the levels of " + name + " are not in the asymptotic range: " + e.problem);
+        }
+      }
+    }
+  }
+
+  for (const auto& half : records) {
+    if (!half.half_force || !half.has_permeability) continue;
+    for (const auto& full : records) {
+      if (full.half_force || full.level != half.level || full.axis != half.axis || !full.has_permeability) continue;
+      report.has_linearity = true;
+      const int j = std::max(half.axis, 0);
+      double length = 0;
+      for (int i = 0; i < dim; ++i) length += full.k[i] * full.k[i];
+      length = std::sqrt(length);
+      for (int i = 0; i < dim; ++i) {
+        const bool negligible = std::abs(full.k[i]) <= kNegligibleComponent * length;
+        const double change = negligible ? NAN : (half.k[i] - full.k[i]) / full.k[i];
+        report.darcy_linearity[i][j] = change;
+        if (std::isfinite(change) && std::abs(change) > kDarcyLinearityLimit) {
+          char text[200];
+          std::snprintf(text, sizeof text,
+                        "k%c%c changes by %+.2f %% at half the body force: the flow is not in the Darcy regime",
+                        "xyz"[i], "xyz"[j], 100 * change);
+          std::string warning = text;
+          if (report.reynolds_number > 0) {  // grains give it a length; an image does not
+            std::snprintf(text, sizeof text, " (Reynolds number %.3g)", report.reynolds_number);
+            warning += text;
+          }
+          report.warnings.push_back(warning);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace poresph

@@ -1,0 +1,38 @@
+#pragma once
+// What a finished stage of a run measured (app/RunPlan.hpp's stages), as
+// the checkpoints keep it and the run's summary reads it.
+#include <vector>
+
+namespace poresph {
+
+// What a finished stage measured, kept in every later checkpoint
+// (RunState::completed_stages) so that a restarted run reports all of them.
+struct StageRecord {
+  static constexpr int kSize = 15;
+  int level = 0, axis = -1;
+  bool half_force = false;
+  double spacing = 0;
+  long long steps = 0;
+  double simulated_time = 0, wall_seconds = 0;
+  bool warm_started = false, steady = false, has_permeability = false;
+  double relative_change = 0, remaining_change = 0;
+  double k[3] = {0, 0, 0};  // the driven column, k_i = nu <u_i> / |F|
+
+  void append_to(std::vector<double>& values) const {
+    const double v[kSize] = {double(level), double(axis), double(half_force), spacing, double(steps),
+                             simulated_time, wall_seconds, double(warm_started), double(steady),
+                             double(has_permeability), relative_change, remaining_change, k[0], k[1], k[2]};
+    values.insert(values.end(), v, v + kSize);
+  }
+  static StageRecord read(const double* v) {
+    StageRecord r;
+    r.level = int(v[0]), r.axis = int(v[1]), r.half_force = v[2] != 0, r.spacing = v[3];
+    r.steps = static_cast<long long>(v[4]), r.simulated_time = v[5], r.wall_seconds = v[6];
+    r.warm_started = v[7] != 0, r.steady = v[8] != 0, r.has_permeability = v[9] != 0;
+    r.relative_change = v[10], r.remaining_change = v[11];
+    r.k[0] = v[12], r.k[1] = v[13], r.k[2] = v[14];
+    return r;
+  }
+};
+
+}  // namespace poresph
