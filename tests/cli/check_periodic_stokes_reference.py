@@ -7,7 +7,8 @@
   digits) within 0.05 %;
 - on the BCC and FCC arrays it gives the K that perf/sphere_arrays.py
   compares PoreSPH with (computed at a higher degree), within 1e-5, so that
-  the table there can be made again from the script.
+  the table there can be made again from the script;
+- it refuses a solid fraction at which the spheres would overlap.
 
 Exits 77 (skipped) without SciPy, which the script needs and
 `scripts/setup.sh test|tools` installs.
@@ -46,5 +47,13 @@ for lattice, phi, tolerance in cases:
     failures += not ok
     print(f"{lattice} phi = {phi}: K = {K:.6f} at degree {DEGREE}, table {expected}, "
           f"{error * 100:+.4f} % {'ok' if ok else 'FAILED'}")
+# Overlapping spheres have no answer: refused, not computed.
+for lattice, phi in (("sc", 0.6), ("bcc", 0.7), ("fcc", 0.0)):
+    try:
+        reference.drag(lattice, phi, 4)
+        failures += 1
+        print(f"{lattice} phi = {phi}: computed, FAILED to refuse")
+    except ValueError as error:
+        print(f"{lattice} phi = {phi}: refused ({error}) ok")
 print("periodic stokes reference ok" if failures == 0 else f"{failures} failed")
 sys.exit(1 if failures else 0)
