@@ -32,9 +32,10 @@ DRAG = {
     "sc": {0.027: 2.008, 0.064: 2.810, 0.125: 4.292, 0.216: 7.442, 0.343: 15.4, 0.45: 28.1},
     # BCC and FCC: the same K computed by perf/periodic_stokes_spheres.py at
     # degree 24 (changes from degree 16 at most 4e-6), the method that gives
-    # the SC row above to its four digits; docs/validation.md section 4.
-    "bcc": {0.054: 2.66041, 0.125: 4.44638, 0.216: 7.73878, 0.343: 16.3350, 0.45: 31.6882},
-    "fcc": {0.054: 2.65992, 0.125: 4.44572, 0.216: 7.75768, 0.343: 16.6390, 0.45: 33.4898},
+    # the SC row above to its four digits; phi = 0.6 at degree 32 (changes
+    # from degree 24: BCC 1.7e-3, FCC 1.9e-4); docs/validation.md section 4.
+    "bcc": {0.054: 2.66041, 0.125: 4.44638, 0.216: 7.73878, 0.343: 16.3350, 0.45: 31.6882, 0.6: 88.828},
+    "fcc": {0.054: 2.65992, 0.125: 4.44572, 0.216: 7.75768, 0.343: 16.6390, 0.45: 33.4898, 0.6: 107.656},
 }
 # Sphere centres in units of the cell side: one, two or four spheres per cube.
 CENTRES = {
