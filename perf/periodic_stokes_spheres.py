@@ -228,15 +228,20 @@ def touching_fraction(lattice):
     return 4 / 3 * math.pi * (nearest / 2) ** 3 / abs(np.linalg.det(primitive))
 
 
+def check_fraction(lattice, phi):
+    """Raises ValueError unless the spheres at solid fraction phi are apart."""
+    touching = touching_fraction(lattice)
+    if not 0 < phi < touching:
+        raise ValueError(f"{lattice}: the solid fraction must lie in (0, {touching:.4f}), where the spheres "
+                         f"touch; {phi} was given")
+
+
 def drag(lattice, phi, degree, xi_scale=4.0):
     """Zick & Homsy's K for the lattice at solid fraction phi, harmonics up
     to `degree`; also the sphere's radius and its force (U = 1 along x)."""
     primitive = PRIMITIVE[lattice]
     stokeslet = PeriodicStokeslet(primitive, xi_scale)
-    touching = touching_fraction(lattice)
-    if not 0 < phi < touching:
-        raise ValueError(f"{lattice}: the solid fraction must lie in (0, {touching:.4f}), where the spheres "
-                         f"touch; {phi} was given")
+    check_fraction(lattice, phi)
     a = (3 * phi * stokeslet.volume / (4 * math.pi)) ** (1 / 3)
     grid = SphereGrid(degree, a)
     A = free_single_layer(grid) + regular_single_layer(grid, stokeslet)
@@ -277,9 +282,10 @@ def main():
         print(f"{args.lattice}: relative change with the Ewald split {split:.2e}, regular part {regular:.2e}")
         return 0 if split < 1e-10 and regular < 1e-10 else 1
     for phi in args.fractions:
-        if not 0 < phi < touching_fraction(args.lattice):
-            parser.error(f"--fractions: {phi} is outside (0, {touching_fraction(args.lattice):.4f}) for "
-                         f"{args.lattice}, where the spheres touch")
+        try:
+            check_fraction(args.lattice, phi)
+        except ValueError as error:
+            parser.error(f"--fractions: {error}")
     os.makedirs(args.out, exist_ok=True)
     rows = []
     for phi in args.fractions:

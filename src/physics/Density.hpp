@@ -78,16 +78,18 @@ void resum_fluid_density(const ExecSpace& space, const Particles<Dim, typename E
 template <int Dim, class ExecSpace>
 double common_mass(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P, int count) {
   if (count == 0) return 0.0;
-  double lightest = 0, heaviest = 0;
+  using Extremes = Kokkos::MinMax<double>;
+  typename Extremes::value_type extremes;
   const auto m = P.m;
-  static const std::string label_lightest = "poresph::common_mass::lightest";
-  static const std::string label_heaviest = "poresph::common_mass::heaviest";
+  static const std::string label = "poresph::common_mass";
   Kokkos::parallel_reduce(
-      label_lightest, Kokkos::RangePolicy<ExecSpace>(space, 0, count),
-      KOKKOS_LAMBDA(int i, double& least) { least = m(i) < least ? m(i) : least; }, Kokkos::Min<double>(lightest));
-  Kokkos::parallel_reduce(
-      label_heaviest, Kokkos::RangePolicy<ExecSpace>(space, 0, count),
-      KOKKOS_LAMBDA(int i, double& most) { most = m(i) > most ? m(i) : most; }, Kokkos::Max<double>(heaviest));
+      label, Kokkos::RangePolicy<ExecSpace>(space, 0, count),
+      KOKKOS_LAMBDA(int i, typename Extremes::value_type& found) {
+        found.min_val = m(i) < found.min_val ? m(i) : found.min_val;
+        found.max_val = m(i) > found.max_val ? m(i) : found.max_val;
+      },
+      Extremes(extremes));
+  const double lightest = extremes.min_val, heaviest = extremes.max_val;
   return lightest == heaviest && lightest > 0 ? lightest : 0.0;
 }
 
