@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -14,6 +15,7 @@
 #include "app/RunPlan.hpp"
 #include "app/RunSummary.hpp"
 #include "app/Simulation.hpp"
+#include "io/OutputDirectory.hpp"
 #include "io/Parameters.hpp"
 #include "physics/LevelStart.hpp"
 #include "SharedDirectory.hpp"
@@ -75,6 +77,41 @@ TEST(Ladder, PlansLevelsCoarseToFineAxisByAxis) {
   // Moving particles leave the points their start was given at: plain warm starts.
   scene.particle_motion = ParticleMotion::Lagrangian;
   for (const Stage& s : plan_run(scene)) EXPECT_TRUE(!s.keeps_level_start && s.warm_extrapolation == 0);
+}
+
+// Every file every stage of a run writes is known as run output, whatever
+// the stages (tensor axes, ladder levels, the half-force repeat, in 2D and
+// 3D), so that --overwrite removes it and a run without it is refused; the
+// user's files that look alike are not.
+TEST(Ladder, EveryFileOfEveryStageIsRunOutput) {
+  for (int dim : {2, 3})
+    for (int levels : {1, 2, 3})
+      for (bool tensor : {false, true})
+        for (bool linearity : {false, true}) {
+          auto scene = square_array_ladder();
+          scene.convergence_levels = levels;
+          scene.permeability_tensor = tensor;
+          scene.linearity_check = linearity;
+          if (dim == 3) scene.dimension = 3, scene.cell_size[2] = scene.cell_size[0], scene.periodic[2] = true;
+          std::vector<std::string> suffixes;
+          for (const Stage& s : plan_run(scene)) {
+            suffixes.push_back(s.suffix);
+            for (const std::string& name :
+                 {"permeability_history" + s.suffix + ".csv", "profiles" + s.suffix + ".csv",
+                  "particles" + s.suffix + ".csv", "particles" + s.suffix + ".xmf", "grid" + s.suffix + ".xmf",
+                  "fields" + s.suffix + "_000001234.h5", "fields" + s.suffix + "_000000000.h5.tmp"}) {
+              const auto parsed = parse_run_output(name);
+              ASSERT_TRUE(parsed) << name;
+              EXPECT_EQ(parsed->suffix, s.suffix) << name;
+            }
+          }
+          std::sort(suffixes.begin(), suffixes.end());
+          EXPECT_EQ(std::unique(suffixes.begin(), suffixes.end()), suffixes.end()) << "two stages share a suffix";
+        }
+  for (const char* mine : {"fields.h5", "fields_notes.h5", "particles_mine.csv", "grid_level.xmf",
+                                  "permeability_history_levelx.csv", "profiles_w.csv", "summary.json.bak",
+                                  "fields_x_level0_.h5", "grid_half.xmf", "notes.txt", ".poresph.lock"})
+    EXPECT_FALSE(is_run_output(mine)) << mine;
 }
 
 // A level that kept its start hands the next one what it took plus the

@@ -4,6 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/OutputDirectory.hpp"
+
 namespace poresph {
 
 std::vector<double> level_spacings(const SceneConfig& scene) {
@@ -48,7 +50,6 @@ std::vector<Stage> plan_run(const SceneConfig& scene) {
     axes.push_back(-1);
   std::vector<Stage> stages;
   for (int axis : axes) {
-    const std::string axis_suffix = axis >= 0 ? std::string("_") + "xyz"[axis] : "";
     for (int l = 0; l < levels; ++l) {
       Stage s;
       s.level = l, s.levels = levels, s.spacing = spacings[l], s.drive_axis = axis;
@@ -63,7 +64,7 @@ std::vector<Stage> plan_run(const SceneConfig& scene) {
         const double r = l >= 2 ? spacings[l - 1] / spacings[l] : 0;  // as rounded to the cell
         if (l >= 2) s.warm_extrapolation = 1.0 / (r * r - 1.0);
       }
-      s.suffix = axis_suffix + (l < levels - 1 ? "_level" + std::to_string(l) : "");
+      s.suffix = stage_suffix(axis, l, levels, false);
       stages.push_back(s);
     }
     if (scene.linearity_check) {
@@ -73,7 +74,7 @@ std::vector<Stage> plan_run(const SceneConfig& scene) {
       // linear flow ends, and what is left to settle is the inertia.
       s.warm = true, s.warm_scale = 0.5;
       s.keeps_level_start = false, s.warm_extrapolation = 0;  // the same level: nothing to continue
-      s.suffix = axis_suffix + "_half_force";
+      s.suffix = stage_suffix(axis, s.level, levels, true);
       stages.push_back(s);
     }
   }

@@ -27,7 +27,7 @@ struct Stage {
   // of its own start (Simulation::warm_start).
   bool keeps_level_start = false;
   double warm_extrapolation = 0;
-  std::string suffix;     // of its history and field files: "_x", "_level0", "_half_force", ...
+  std::string suffix;     // of its files: "_x", "_level0", "_x_half_force", ... (io/OutputDirectory.hpp)
 
   bool finest() const { return level == levels - 1; }
 };

@@ -84,6 +84,8 @@ class StageLoop {
             RunReport& report)
       : stage_(stages[index]), index_(index), scene_(stage_scene(base, stage_)), context_(context),
         options_(context.options), resume_(resume), records_(records), report_(report) {
+    for (size_t later = index + 1; later < stages.size(); ++later) later_suffixes_.push_back(stages[later].suffix);
+    records_before_ = records.size();
     const auto setup_start = Clock::now();
     const Communicator world;
     // A warm start keeps the boxes of the stage it starts from: its particles
@@ -122,7 +124,8 @@ class StageLoop {
     const bool continuing = resume_ && context_.in_place;
     const std::string& dir = options_.output_dir;
     const bool root = sim.communicator().rank() == 0;
-    if (continuing && root) remove_other_frames(dir, stage_.suffix, restored->frame_steps);
+    // What the first attempt wrote after the checkpoint goes: its later frames, its later stages.
+    if (continuing && root) remove_files_after_checkpoint(dir, stage_.suffix, restored->frame_steps, later_suffixes_);
     const double dt = sim.time_step();
 
     // Checks every few steps: often enough to follow the shortest window or
@@ -351,6 +354,8 @@ class StageLoop {
   RunReport& report_;
   std::unique_ptr<Sim> sim_;
   std::string fingerprint_;
+  std::vector<std::string> later_suffixes_;  // of the stages after this one
+  size_t records_before_ = 0;                // records of the stages before this one
   bool warm_started_ = false, channel_ = false;
   int axis_ = -1;
   long long last_step_ = 0;

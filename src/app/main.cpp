@@ -29,7 +29,8 @@ constexpr const char* kUsage =
     "usage: poresph SCENE.xml [--set \"Sublist/Parameter Name=value\"]... [--output DIR] [--restart CHECKPOINT.h5]\n"
     "                         [--overwrite]\n"
     "       poresph --help-parameters    every scene parameter with its default and documentation\n"
-    "--output DIR (default poresph-NAME) must not hold another run's results; --overwrite removes them first.\n"
+    "--output DIR (default poresph-NAME) must not hold another run's results (--overwrite removes them first),\n"
+    "nor be in use by a run going on.\n"
     "--restart continues the run saved in a checkpoint (Output/Checkpoint Interval, Output/Final Checkpoint)\n"
     "with the scene's parameters; on as many processes as wrote it, bit for bit. Into the checkpoint's own\n"
     "directory it continues that run's files. The checkpoint must be of the same physics (cell, spacing, fluid,\n"
@@ -122,7 +123,7 @@ int processes_on_this_machine() {
 }
 
 int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const poresph::SceneConfig& scene,
-        const poresph::OutputDirectoryPlan& plan, double seconds_before, int rank) {
+        const poresph::OutputDirectoryPlan& plan, poresph::OutputClaim& claim, double seconds_before, int rank) {
   poresph::RunOptions options;
   options.output_dir = plan.path;
   // Under mpiexec a rank's stdout is a pseudo-terminal even when the
@@ -138,6 +139,7 @@ int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const p
   // Claimed once the run has set up, so that a run refused on the way writes nothing.
   options.prepare_output = [&]() {
     if (rank == 0) {
+      claim.written();  // from here on the directory holds this run, whatever follows
       poresph::prepare_output_directory(plan);
       // The list after defaults, and what ran it: enough to reproduce any output.
       poresph::write_file_atomically(
@@ -229,17 +231,29 @@ int main(int argc, char** argv) {
       problem = agree(problem, rank, size);
     }
   }
+  // The output directory: claimed for this run alone (rank 0 holds the
+  // lock), then looked at: under the claim, no other run writes into it.
+  poresph::OutputClaim claim;
   if (problem.empty()) {
+    const std::string dir = cl.output_dir.empty() ? "poresph-" + scene.name : cl.output_dir;
     try {
-      plan = poresph::plan_output_directory(cl.output_dir.empty() ? "poresph-" + scene.name : cl.output_dir,
-                                            cl.restart_file, cl.overwrite);
+      if (rank == 0) claim.claim(dir);
     } catch (const std::exception& e) {
       problem = e.what();
     }
     problem = agree(problem, rank, size);
+    if (problem.empty()) {
+      try {
+        plan = poresph::plan_output_directory(dir, cl.restart_file, cl.overwrite);
+      } catch (const std::exception& e) {
+        problem = e.what();
+      }
+      problem = agree(problem, rank, size);
+    }
   }
   if (!problem.empty()) {
     if (rank == 0) std::cerr << "poresph: error: " << problem << "\n";
+    claim.release();
     MPI_Finalize();
     return 2;
   }
@@ -257,7 +271,7 @@ int main(int argc, char** argv) {
   Kokkos::initialize(kokkos_argc, kokkos_args.data());
   int status = 0;
   try {
-    status = run(cl, *parameters, scene, plan,
+    status = run(cl, *parameters, scene, plan, claim,
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), rank);
   } catch (const poresph::ParameterError& e) {
     if (rank == 0) std::cerr << "poresph: error: " << e.what() << "\n";
@@ -276,6 +290,8 @@ int main(int argc, char** argv) {
     status = 1;
   }
   Kokkos::finalize();
+  // A run refused during its set-up (status 2) wrote nothing: the directories its claim made go too.
+  claim.release();
   if (poresph::hdf5_left_broken()) {
     // HDF5 would crash closing the file that failed to close (see Hdf5File.hpp) and turn exit status 1 into a
     // segmentation fault; everything there was to write has been written or reported.

@@ -19,11 +19,14 @@ class FieldFrames : public Observer<Sim> {
   FieldFrames(Sim& sim, const std::string& output_dir, const std::string& suffix, const RunState* restored,
               bool continuing)
       : writer_(sim.scene(), output_dir, suffix), interval_(sim.scene().field_interval) {
-    if (continuing)
+    if (continuing) {
       writer_.add_earlier_frames(restored->frame_steps, restored->frame_times,
                                  sim.fluid_particles() + sim.boundary_particles());
-    else if (interval_ > 0 && !restored)
+      // The descriptions may name frames written after the checkpoint, which are gone now.
+      if (sim.communicator().rank() == 0) writer_.describe();
+    } else if (interval_ > 0 && !restored) {
       writer_.write(sim);
+    }
     scheduled_ = writer_.frame_steps().size();
     if (interval_ > 0)
       next_time_ = restored && restored->field_interval == interval_

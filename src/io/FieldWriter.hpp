@@ -81,11 +81,22 @@ class FieldWriter {
       if (!scene_.grid_points.empty()) write_grid(file, block, grid_values);
     });
     add_frame(sim.steps(), sim.time(), total);
-    if (comm.rank() == 0) {
-      write_file_atomically(dir_ + "/particles" + suffix_ + ".xmf", xdmf_time_series("particles", particle_frames_));
-      if (!scene_.grid_points.empty())
-        write_file_atomically(dir_ + "/grid" + suffix_ + ".xmf", xdmf_time_series("grid", grid_frames_));
+    if (comm.rank() == 0) describe();
+  }
+
+  // On one process: particles.xmf and grid.xmf describe exactly the frames
+  // listed (none: no description), as after a restart that removed the
+  // frames written past its checkpoint.
+  void describe() {
+    const std::string particles = dir_ + "/particles" + suffix_ + ".xmf", grid = dir_ + "/grid" + suffix_ + ".xmf";
+    if (particle_frames_.empty()) {
+      std::remove(particles.c_str());
+      std::remove(grid.c_str());
+      return;
     }
+    write_file_atomically(particles, xdmf_time_series("particles", particle_frames_));
+    if (!scene_.grid_points.empty()) write_file_atomically(grid, xdmf_time_series("grid", grid_frames_));
+    else std::remove(grid.c_str());
   }
 
  private:
