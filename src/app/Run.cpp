@@ -3,6 +3,8 @@
 #include <Kokkos_Core.hpp>
 
 #include <cmath>
+#include <signal.h>
+
 #include <csignal>
 #include <filesystem>
 #include <functional>
@@ -25,10 +27,12 @@
 namespace poresph {
 namespace {
 
-// Set by the SIGINT/SIGTERM handler, read by the time loop.
+// Set by the signal handler, read by the time loop: the first signal counts.
 volatile std::sig_atomic_t stop_signal = 0;
 
-extern "C" void request_stop(int signal_number) { stop_signal = signal_number; }
+extern "C" void request_stop(int signal_number) {
+  if (stop_signal == 0) stop_signal = signal_number;
+}
 
 template <int Dim, class ExecSpace>
 RunReport run(const SceneConfig& scene, const RunOptions& options) {
@@ -126,8 +130,22 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
 }  // namespace
 
 void install_stop_signal_handlers() {
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
+  struct sigaction action {};
+  action.sa_handler = request_stop;
+  sigemptyset(&action.sa_mask);
+  // Interrupted reads and writes (a checkpoint's) go on where they were.
+  action.sa_flags = SA_RESTART;
+  for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) sigaction(signal_number, &action, nullptr);
+}
+
+std::string signal_name(int signal_number) {
+  switch (signal_number) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+    case SIGPIPE: return "SIGPIPE";
+    default: return "signal " + std::to_string(signal_number);
+  }
 }
 
 bool stop_signal_pending() { return stop_signal != 0; }

@@ -28,19 +28,26 @@ struct RunOptions {
   double setup_seconds_before = 0;  // spent reading and checking the scene before run_scene
 };
 
-// A run stopped by SIGINT or SIGTERM after writing its checkpoint.
+// A run stopped by a signal (stop_signal_pending) after writing its checkpoint.
 struct RunInterrupted : std::runtime_error {
   RunInterrupted(const std::string& message, int signal_number_)
       : std::runtime_error(message), signal_number(signal_number_) {}
   int signal_number;
 };
 
-// Installs the SIGINT/SIGTERM handlers that ask the time loop to stop.
+// Installs the handlers of the signals that stop a run with a checkpoint
+// and a summary: SIGINT (Ctrl-C), SIGTERM (kill, a batch system's end),
+// SIGHUP (the terminal or ssh session closed) and SIGPIPE (the reader of
+// the output went away: `poresph ... | head -1`). The handlers only note
+// the signal; the run stops where it can save its state. A write to a pipe
+// with no reader then fails with EPIPE instead of ending the process.
 void install_stop_signal_handlers();
-// Whether this process has received SIGINT or SIGTERM (no communication).
+// Whether this process has received one of them (no communication).
 bool stop_signal_pending();
-// The signal received since (SIGINT or SIGTERM), or 0, agreed by all processes.
+// The first of them received, or 0, agreed by all processes.
 int stop_signal_received();
+// "SIGTERM", ...
+std::string signal_name(int signal_number);
 
 // What a run measured; summary.json is this, serialised.
 struct RunReport {

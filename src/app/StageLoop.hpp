@@ -105,13 +105,8 @@ class StageLoop {
     warm_started_ = resume ? resume->state.stage_warm != 0 : warm_from != nullptr;
     warm_from.reset();  // its memory, before this stage's time loop
     report.setup_seconds += std::chrono::duration<double>(Clock::now() - setup_start).count();
-    // A signal during set-up stops the run before it writes anything.
-    if (sim_->communicator().any(stop_signal_pending())) {
-      const int signal_number = stop_signal_received();
-      throw RunInterrupted("stopped by " + std::string(signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
-                               " during set-up, before the first step",
-                           signal_number);
-    }
+    // A signal during set-up is answered before the first step (time_loop),
+    // with a checkpoint of the state set up and a summary, as in the loop.
     context.claim_output();
     fingerprint_ = stage_fingerprint(scene_);
     make_observers();
@@ -221,7 +216,18 @@ class StageLoop {
     const auto loop_start = Clock::now();
     auto seconds = [&]() { return std::chrono::duration<double>(Clock::now() - loop_start).count(); };
     const std::string checkpoint_path = options_.output_dir + "/checkpoint.h5";
+    // Stops the run for a signal: the state as it stands, and what the stage measured.
+    auto stop_for_signal = [&](int signal_number) {
+      progress_->finish();
+      write_checkpoint_now(true);
+      record("signal", seconds(), first_step);
+      throw RunInterrupted("stopped by " + signal_name(signal_number) + " at step " + std::to_string(sim.steps()) +
+                               ", t = " + std::to_string(sim.time()) + " s; the state is in " + checkpoint_path,
+                           signal_number);
+    };
     try {
+      // One that came during the set-up (this stage's, or the run's before it).
+      if (sim.communicator().any(stop_signal_pending())) stop_for_signal(stop_signal_received());
       while (sim.steps() < last_step_) {
         if (sim.steps() + 1 == options_.inject_nan_at_step) sim.poison_next_step();
         sim.step();
@@ -236,14 +242,7 @@ class StageLoop {
         const bool test_interrupt = index_ == options_.interrupt_stage && sim.steps() == options_.interrupt_step;
         if (test_interrupt || ((sim.steps() % kSignalCheckInterval == 0 || sim.steps() == last_step_) &&
                                sim.communicator().any(stop_signal_pending()))) {
-          const int signal_number = test_interrupt ? SIGTERM : stop_signal_received();
-          progress_->finish();
-          write_checkpoint_now(true);
-          record("signal", seconds(), first_step);
-          throw RunInterrupted("stopped by " + std::string(signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
-                                   " at step " + std::to_string(sim.steps()) + ", t = " + std::to_string(sim.time()) +
-                                   " s; the state is in " + checkpoint_path,
-                               signal_number);
+          stop_for_signal(test_interrupt ? SIGTERM : stop_signal_received());
         }
       }
     } catch (const SimulationFailure& failure) {

@@ -37,7 +37,8 @@ constexpr const char* kUsage =
     "grains); a mismatch is refused, naming what differs.\n"
     "--inject-nan STEP makes step STEP end with a NaN velocity, to test the failure path.\n"
     "Exit status: 0 done, 1 error (I/O, MPI), 2 bad input or a refused run (nothing written), 3 the run failed\n"
-    "(a checkpoint of the last good state was written), 128 + signal after SIGINT/SIGTERM.\n"
+    "(a checkpoint of the last good state was written), 128 + signal after SIGHUP (129), SIGINT (130), SIGPIPE\n"
+    "(141) or SIGTERM (143), each with a checkpoint and summary.json.\n"
     "Kokkos options (--kokkos-threads=N, ...) are passed on to Kokkos. See docs/reliability.md.\n";
 
 struct CommandLine {
@@ -175,7 +176,7 @@ int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const p
 int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   MPI_Init(&argc, &argv);
-  // At once: a SIGTERM during set-up (reading a large scene) must stop the run, not be lost.
+  // At once: a signal during set-up (reading a large scene) must stop the run, not be lost or end it unsaved.
   poresph::install_stop_signal_handlers();
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -256,13 +257,6 @@ int main(int argc, char** argv) {
     claim.release();
     MPI_Finalize();
     return 2;
-  }
-  if (const int signal_number = poresph::stop_signal_received()) {
-    if (rank == 0)
-      std::cerr << "poresph: stopped by " << (signal_number == SIGINT ? "SIGINT" : "SIGTERM")
-                << " during set-up; nothing was written\n";
-    MPI_Finalize();
-    return 128 + signal_number;
   }
   std::vector<char*> kokkos_args = cl.kokkos_args;
   std::string threads_arg = "--kokkos-threads=" + std::to_string(scene.threads);
