@@ -74,19 +74,20 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   }
   const StageContext context{options, claim_output, in_place, report.porosity};
   RunReport summarised;  // the report with the stages' summary: what summary.json says and run() returns
+  // Mean grain diameter / (porosity nu): the Reynolds number per unit of superficial speed.
+  double reynolds_scale = 0;
+  if (!scene.grains.empty() && scene.kinematic_viscosity > 0) {
+    double diameter = 0;
+    for (const auto& g : scene.grains) diameter += 2 * g.radius / scene.grains.size();
+    reynolds_scale = diameter / report.porosity / scene.kinematic_viscosity;
+  }
   auto write_summary = [&]() {
     report.particle_steps_per_second =
         report.wall_seconds > 0
             ? (report.fluid_particles + report.boundary_particles) * report.timed_steps / report.wall_seconds
             : 0.0;
-    if (!scene.grains.empty() && report.has_permeability) {
-      double speed = 0, diameter = 0;
-      for (int d = 0; d < Dim; ++d) speed += report.superficial_velocity[d] * report.superficial_velocity[d];
-      for (const auto& g : scene.grains) diameter += 2 * g.radius / scene.grains.size();
-      report.reynolds_number = std::sqrt(speed) / report.porosity * diameter / scene.kinematic_viscosity;
-    }
     summarised = report;
-    summarise_stages(records, Dim, stages.front().levels, scene.steady_tolerance > 0, summarised);
+    summarise_stages(records, Dim, stages.front().levels, scene.steady_tolerance > 0, summarised, reynolds_scale);
     if (Communicator().rank() == 0)
       write_summary_file(options.output_dir + "/summary.json", summarised.to_json().str() + "\n");
   };

@@ -44,7 +44,13 @@ std::string unsteady_warning(const StageRecord& r, int levels, bool tensor) {
 // Darcy check, whether every stage was steady (a warning for each that
 // sought a steady k and did not reach it).
 void summarise_stages(const std::vector<StageRecord>& records, int dim, int levels, bool steady_sought,
-                      RunReport& report) {
+                      RunReport& report, double reynolds_scale) {
+  report.steps = 0, report.simulated_time = 0, report.neighbour_rebuilds = 0;
+  for (const auto& r : records) {
+    report.steps += r.steps;
+    report.simulated_time += r.simulated_time;
+    report.neighbour_rebuilds += r.neighbour_rebuilds;
+  }
   bool any = false, steady = true;
   const bool tensor = std::any_of(records.begin(), records.end(), [&](const StageRecord& r) {
     return r.axis != records.front().axis;
@@ -58,11 +64,18 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     report.steady_remaining_change = std::max(report.steady_remaining_change, r.remaining_change);
   }
   report.steady = any && steady;
-  // The finest tensor, also from the records (a restart finds earlier columns there).
+  // The finest tensor, and the superficial velocity of its first column.
   for (const auto& r : records) {
     if (!r.has_permeability || r.half_force || r.level != levels - 1 || r.axis < 0) continue;
+    if (!report.has_permeability)
+      for (int i = 0; i < dim; ++i) report.superficial_velocity[i] = r.u[i];
     report.has_permeability = report.driven[r.axis] = true;
     for (int i = 0; i < dim; ++i) report.permeability[i][r.axis] = r.k[i];
+  }
+  if (report.has_permeability && reynolds_scale > 0) {
+    double speed = 0;
+    for (int i = 0; i < dim; ++i) speed += report.superficial_velocity[i] * report.superficial_velocity[i];
+    report.reynolds_number = std::sqrt(speed) * reynolds_scale;
   }
 
   if (levels > 1) {

@@ -13,8 +13,13 @@ namespace poresph {
 
 // Into `report` (which holds the rest of the run's measures): dim, the
 // space's dimension; levels, Convergence/Levels; steady_sought, whether the
-// stages had a steady test (Permeability/Steady Tolerance > 0).
+// stages had a steady test (Permeability/Steady Tolerance > 0);
+// reynolds_scale, the Reynolds number per unit of superficial speed (mean
+// grain diameter / (porosity nu); 0 where the solid gives no length). What
+// the whole run counts (steps, time, list builds) is summed from the
+// records alone, so that a run continued from a checkpoint, which carries
+// the records of the stages before it, reports what a run in one go does.
 void summarise_stages(const std::vector<StageRecord>& records, int dim, int levels, bool steady_sought,
-                      RunReport& report);
+                      RunReport& report, double reynolds_scale = 0);
 
 }  // namespace poresph

@@ -149,7 +149,7 @@ class StageLoop {
           sim, ChannelFlow{scene.cell_size[1], scene.kinematic_viscosity, scene.body_force[0],
                            scene.lower_wall_velocity, scene.upper_wall_velocity},
           scene.profile_sample_times, dir + "/profiles" + stage_.suffix + ".csv", continuing,
-          continuing ? static_cast<long long>(restored->profile_rows) : 0);
+          continuing ? static_cast<long long>(restored->profile_rows) : 0, restored);
       probes_.insert(probes_.begin(), channel_probe_.get());
     }
     axis_ = force_axis(scene);
@@ -201,7 +201,10 @@ class StageLoop {
     state.drive_axis = stage_.drive_axis;
     state.stage = index_;
     state.stage_warm = warm_started_;
-    for (const auto& r : records_) r.append_to(state.completed_stages);
+    // The stages before this one: this one's own record (made when it ends)
+    // is not final while a restart may take it on further.
+    for (size_t k = 0; k < records_before_; ++k) records_[k].append_to(state.completed_stages);
+    state.neighbour_rebuilds = static_cast<double>(neighbour_rebuilds());
     for (auto* o : probes_) o->save(state);
     for (auto* o : writers_) o->save(state);
     write_checkpoint<Dim>(*sim_, options_.output_dir + "/checkpoint.h5", state, options_.parameters_xml, fingerprint_,
@@ -287,9 +290,8 @@ class StageLoop {
     report.dimension = Dim;
     report.fluid_particles = sim.fluid_particles();
     report.boundary_particles = sim.boundary_particles();
-    report.steps += sim.steps();
+    // The steps, time and list builds of the whole run are summed from the records (app/RunSummary.cpp).
     report.timed_steps += sim.steps() - first_step;
-    report.simulated_time += sim.time();
     report.time_step = derived.time_step;
     report.particle_spacing = scene_.particle_spacing;
     report.smoothing_length = derived.smoothing_length;
@@ -298,7 +300,6 @@ class StageLoop {
     report.ranks = sim.communicator().size();
     report.threads = ExecSpace::concurrency();
     report.backend = backend_name<ExecSpace>();
-    report.neighbour_rebuilds += sim.neighbour_rebuilds();
     report.neighbours_per_particle = sim.neighbours_per_particle();
     record_health(report, health_->record());
     if (channel_ && stage_.finest()) {
@@ -309,27 +310,27 @@ class StageLoop {
     StageRecord r;
     r.level = stage_.level, r.axis = axis_, r.half_force = stage_.half_force, r.spacing = stage_.spacing;
     r.steps = sim.steps(), r.simulated_time = sim.time();
+    r.neighbour_rebuilds = neighbour_rebuilds();
     // The time loop of this process (after a restart: since the restart).
     r.wall_seconds = loop_seconds;
     r.warm_started = warm_started_;
     if (permeability_ && permeability_->monitor().measured()) {
       const auto& monitor = permeability_->monitor();
       r.has_permeability = true;
-      for (int i = 0; i < Dim; ++i) r.k[i] = monitor.permeability(i);
+      for (int i = 0; i < Dim; ++i) r.k[i] = monitor.permeability(i), r.u[i] = monitor.superficial_velocity()[i];
       r.steady = monitor.steady();
       r.relative_change = monitor.detector().relative_change();
       r.remaining_change = monitor.detector().remaining_change();
-      if (stage_.finest() && !stage_.half_force) {
-        const bool first = !report.has_permeability;
-        report.has_permeability = true;
-        report.driven[axis_] = true;
-        for (int i = 0; i < Dim; ++i) {
-          report.permeability[i][axis_] = r.k[i];
-          if (first) report.superficial_velocity[i] = monitor.superficial_velocity()[i];
-        }
-      }
     }
     records_.push_back(r);
+  }
+
+  // The stage's list builds: after a restart, those before the checkpoint
+  // and those since, less the one that rebuilt the checkpoint's list.
+  long long neighbour_rebuilds() const {
+    const long long since = sim_->neighbour_rebuilds();
+    if (!resume_) return since;
+    return static_cast<long long>(resume_->state.neighbour_rebuilds) + std::max(since - 1, 0LL);
   }
 
   // The one axis a body force points along, or -1 if it has several components.

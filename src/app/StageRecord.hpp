@@ -8,7 +8,7 @@ namespace poresph {
 // What a finished stage measured, kept in every later checkpoint
 // (RunState::completed_stages) so that a restarted run reports all of them.
 struct StageRecord {
-  static constexpr int kSize = 15;
+  static constexpr int kSize = 19;
   int level = 0, axis = -1;
   bool half_force = false;
   double spacing = 0;
@@ -17,11 +17,14 @@ struct StageRecord {
   bool warm_started = false, steady = false, has_permeability = false;
   double relative_change = 0, remaining_change = 0;
   double k[3] = {0, 0, 0};  // the driven column, k_i = nu <u_i> / |F|
+  double u[3] = {0, 0, 0};  // the superficial velocity it was measured from
+  long long neighbour_rebuilds = 0;
 
   void append_to(std::vector<double>& values) const {
     const double v[kSize] = {double(level), double(axis), double(half_force), spacing, double(steps),
                              simulated_time, wall_seconds, double(warm_started), double(steady),
-                             double(has_permeability), relative_change, remaining_change, k[0], k[1], k[2]};
+                             double(has_permeability), relative_change, remaining_change, k[0], k[1], k[2],
+                             u[0], u[1], u[2], double(neighbour_rebuilds)};
     values.insert(values.end(), v, v + kSize);
   }
   static StageRecord read(const double* v) {
@@ -31,6 +34,8 @@ struct StageRecord {
     r.warm_started = v[7] != 0, r.steady = v[8] != 0, r.has_permeability = v[9] != 0;
     r.relative_change = v[10], r.remaining_change = v[11];
     r.k[0] = v[12], r.k[1] = v[13], r.k[2] = v[14];
+    r.u[0] = v[15], r.u[1] = v[16], r.u[2] = v[17];
+    r.neighbour_rebuilds = static_cast<long long>(v[18]);
     return r;
   }
 };

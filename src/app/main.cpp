@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/Run.hpp"
+#include "app/RunPlan.hpp"
 #include "app/SceneCheck.hpp"
 #include "geometry/Grains.hpp"
 #include "app/Simulation.hpp"
@@ -222,10 +223,21 @@ int main(int argc, char** argv) {
     if (problem.empty()) {
       // The checkpoint must be of this physics, and undamaged in what it says of itself.
       try {
-        const auto derived = poresph::derive_parameters(scene);
         const auto info = poresph::read_checkpoint_info(cl.restart_file, MPI_COMM_WORLD);
+        // Against the stage it is of: a ladder's coarser level has its own spacing, an axis of a tensor
+        // run or the Darcy check its own force.
+        const auto stages = poresph::plan_run(scene);
+        const auto stage = static_cast<long long>(info.state.stage);
+        if (stage < 0 || stage >= static_cast<long long>(stages.size()))
+          throw poresph::ParameterError(
+              "--restart " + cl.restart_file + ": the checkpoint is of stage " + std::to_string(stage + 1) +
+              " of a run, this scene's run has " + std::to_string(stages.size()) +
+              " (Convergence/Levels, Permeability/Tensor, Permeability/Linearity Check differ)");
+        const auto stage_scene = poresph::stage_scene(scene, stages[static_cast<size_t>(stage)]);
+        const auto derived = poresph::derive_parameters(stage_scene);
         poresph::check_checkpoint_matches(
-            info, cl.restart_file, poresph::physics_fingerprint(scene, derived.time_step, derived.sound_speed));
+            info, cl.restart_file,
+            poresph::physics_fingerprint(stage_scene, derived.time_step, derived.sound_speed));
       } catch (const std::exception& e) {
         problem = e.what();
       }

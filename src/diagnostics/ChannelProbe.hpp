@@ -44,9 +44,17 @@ class ChannelProbe : public Observer<Sim> {
  public:
   // csv_path: profiles.csv, written by rank 0; continuing: a restart in the
   // run's own directory, which keeps the rows its checkpoint counts.
+  // restored: the checkpoint's state, whose samples the summary goes on with.
   ChannelProbe(const Sim& sim, const ChannelFlow& reference, std::vector<double> sample_times,
-               const std::string& csv_path, bool continuing, long long rows_before)
+               const std::string& csv_path, bool continuing, long long rows_before, const RunState* restored)
       : reference_(reference), times_(std::move(sample_times)), rows_(rows_before), scheduled_rows_(rows_before) {
+    if (restored)
+      for (size_t k = 0; k + 3 <= restored->profile_samples.size(); k += 3) {
+        const double* v = &restored->profile_samples[k];
+        samples_.push_back({v[0], v[1], v[2]});
+        largest_ = std::max(largest_, v[2]);
+      }
+    scheduled_samples_ = samples_.size();
     std::sort(times_.begin(), times_.end());
     const double dt = sim.time_step();
     while (next_ < times_.size() && sim.time() >= times_[next_] - 0.5 * dt) ++next_;
@@ -61,9 +69,17 @@ class ChannelProbe : public Observer<Sim> {
   void after_step(Sim& sim) override {
     while (next_ < times_.size() && sim.time() >= times_[next_] - 0.5 * sim.time_step()) sample(sim, times_[next_++]);
     scheduled_rows_ = rows_;
+    scheduled_samples_ = samples_.size();
   }
   void at_end(Sim& sim) override { sample(sim, sim.time()); }
-  void save(RunState& state) const override { state.profile_rows = static_cast<double>(scheduled_rows_); }
+  // The requested samples so far; the end of a run adds one of its own, which a run continued past it drops.
+  void save(RunState& state) const override {
+    state.profile_rows = static_cast<double>(scheduled_rows_);
+    state.profile_samples.clear();
+    for (size_t k = 0; k < scheduled_samples_; ++k)
+      state.profile_samples.insert(state.profile_samples.end(),
+                                   {samples_[k].requested_time, samples_[k].time, samples_[k].error});
+  }
 
   double largest_error() const { return largest_; }
   const std::vector<ProfileSample>& samples() const { return samples_; }
@@ -87,6 +103,7 @@ class ChannelProbe : public Observer<Sim> {
   long long rows_, scheduled_rows_;  // all rows, and those of the scheduled samples (what a checkpoint counts)
   double largest_ = 0;
   std::vector<ProfileSample> samples_;
+  size_t scheduled_samples_ = 0;
 };
 
 }  // namespace poresph

@@ -30,11 +30,13 @@ class HealthWatch : public Observer<Sim> {
  public:
   // earlier: what the run had seen before this level (or before the restart).
   HealthWatch(const Sim& sim, const HealthRecord& earlier, long long check_interval)
-      : sim_(sim), earlier_(earlier), record_(earlier), interval_(check_interval),
+      : sim_(sim), earlier_(earlier), record_(earlier), scheduled_(earlier), interval_(check_interval),
         spacing_(sim.scene().particle_spacing) {}
 
   void after_step(Sim& sim) override {
-    if (sim.steps() % interval_ == 0) check();
+    if (sim.steps() % interval_ != 0) return;
+    check();
+    scheduled_ = record_;
   }
   void at_end(Sim&) override { check(); }
 
@@ -56,8 +58,14 @@ class HealthWatch : public Observer<Sim> {
     return r;
   }
 
+  // The checks as of the last scheduled one (the end of a run adds one that
+  // a run continued past the end does not make), and the corrections so far.
   void save(RunState& s) const override {
-    const HealthRecord r = record();
+    HealthRecord r = record();
+    r.max_density_variation = scheduled_.max_density_variation;
+    r.max_density_drift = scheduled_.max_density_drift;
+    r.particles_inside_grains = scheduled_.particles_inside_grains;
+    r.max_grain_penetration = scheduled_.max_grain_penetration;
     s.max_density_variation = r.max_density_variation;
     s.max_density_drift = r.max_density_drift;
     s.particles_inside_grains = static_cast<double>(r.particles_inside_grains);
@@ -68,7 +76,7 @@ class HealthWatch : public Observer<Sim> {
 
  private:
   const Sim& sim_;
-  HealthRecord earlier_, record_;
+  HealthRecord earlier_, record_, scheduled_;
   long long interval_;
   double spacing_;
 };

@@ -21,9 +21,12 @@ class PermeabilityProbe : public Observer<Sim> {
                     bool stop_when_steady, const std::string& csv_path, bool continuing, long long rows_before,
                     const RunState* restored)
       : monitor_(std::move(monitor)), interval_(check_interval), stop_when_steady_(stop_when_steady),
-        rows_(rows_before), scheduled_rows_(rows_before) {
-    if (restored)
+        rows_(rows_before), scheduled_rows_(rows_before), scheduled_(monitor_.detector()) {
+    if (restored) {
       monitor_.detector().restore(restored->steady_first_time, restored->steady_times, restored->steady_values);
+      monitor_.detector().restore_verdict(restored->steady_verdict);
+    }
+    scheduled_ = monitor_.detector();
     if (sim.communicator().rank() == 0) {
       std::ostringstream header;
       PermeabilityMonitor<Dim>::write_header(header, axis);
@@ -36,12 +39,16 @@ class PermeabilityProbe : public Observer<Sim> {
     if (sim.steps() % interval_ != 0) return;
     sample(sim);
     scheduled_rows_ = rows_;
+    scheduled_ = monitor_.detector();
   }
   bool wants_stop() const override { return stop_when_steady_ && monitor_.steady(); }
   void at_end(Sim& sim) override { sample(sim); }
+  // As of the last scheduled check: the sample the end of a run adds is not
+  // one a run continued past that end takes, and must not weigh in its test.
   void save(RunState& state) const override {
-    monitor_.detector().save(state.steady_times, state.steady_values);
-    state.steady_first_time = monitor_.detector().first_time();
+    scheduled_.save(state.steady_times, state.steady_values);
+    state.steady_first_time = scheduled_.first_time();
+    state.steady_verdict = scheduled_.save_verdict();
     state.history_rows = static_cast<double>(scheduled_rows_);
   }
 
@@ -64,6 +71,7 @@ class PermeabilityProbe : public Observer<Sim> {
   bool stop_when_steady_;
   HistoryFile history_;
   long long rows_, scheduled_rows_;  // all rows, and those of the scheduled checks (what a checkpoint counts)
+  SteadyStateDetector scheduled_;     // the detector as of the last scheduled check
   long long last_check_ = -1;
 };
 

@@ -131,6 +131,16 @@ class SteadyStateDetector {
       values.insert(values.end(), k.begin(), k.begin() + components_);
     }
   }
+  // The verdict on the last sample (relative and remaining change, fitted
+  // time scale, span): a sample at that time again gives it back, so a
+  // restart at that step reports what the run reported there.
+  std::vector<double> save_verdict() const {
+    return {relative_change_, remaining_change_, fitted_time_scale_, span_};
+  }
+  void restore_verdict(const std::vector<double>& verdict) {
+    if (verdict.size() != 4) return;
+    relative_change_ = verdict[0], remaining_change_ = verdict[1], fitted_time_scale_ = verdict[2], span_ = verdict[3];
+  }
   void restore(double first_time, const std::vector<double>& times, const std::vector<double>& values) {
     samples_.clear();
     for (size_t s = 0; s < times.size() && (s + 1) * components_ <= values.size(); ++s) {

@@ -109,6 +109,10 @@ CheckpointInfo read_checkpoint_info(const std::string& path, MPI_Comm comm) {
     throw std::invalid_argument(path + " was written by an earlier PoreSPH (" + format +
                                 "), which recorded neither a fingerprint of its physics nor checksums of its data; "
                                 "it cannot be checked, so it is not continued: start the run afresh");
+  if (format.rfind("poresph checkpoint ", 0) == 0 && format != kCheckpointFormat)
+    throw std::invalid_argument(path + " was written by another version of PoreSPH (" + format + "; this one reads " +
+                                kCheckpointFormat + "): continue it with the version that wrote it, or start the "
+                                "run afresh");
   if (format != kCheckpointFormat) throw std::invalid_argument(path + " is not a PoreSPH checkpoint (" + format + ")");
   std::vector<double> scalars;
   auto scalar = [&](const char* name, auto& value) {

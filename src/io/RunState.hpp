@@ -11,13 +11,21 @@ namespace poresph {
 struct RunState {
   int drive_axis = -1;                     // the body-force direction being run (tensor runs), or -1
   // The run's stages (app/RunPlan.hpp): which one the checkpoint is of, and
-  // what the ones before it measured, kStageRecord values each
-  // (app/Run.cpp's StageRecord).
+  // what the ones before it measured, StageRecord::kSize values each
+  // (app/StageRecord.hpp).
   double stage = 0;
   double stage_warm = 0;  // whether that stage started from the end of the one before it
   std::vector<double> completed_stages;
   std::vector<double> steady_times, steady_values;  // the steady-state detector's window
   double steady_first_time = 0;
+  // Its verdict on the last of them (SteadyStateDetector::save_verdict), so
+  // that a run continued with no step left reports what the run it
+  // continues reported.
+  std::vector<double> steady_verdict;
+  // The channel profile's samples so far: sample time, time, error, each.
+  std::vector<double> profile_samples;
+  // Neighbour-list builds of the stage up to the checkpoint.
+  double neighbour_rebuilds = 0;
   std::vector<double> frame_steps, frame_times;     // field files so far
   double field_interval = 0, next_field_time = INFINITY;  // Output/Field Interval, and when the next file is due
   // Data rows of permeability_history*.csv and profiles.csv that belong to
@@ -38,6 +46,9 @@ struct RunState {
     f("steady_times", state.steady_times);
     f("steady_values", state.steady_values);
     f("steady_first_time", state.steady_first_time);
+    f("steady_verdict", state.steady_verdict);
+    f("profile_samples", state.profile_samples);
+    f("neighbour_rebuilds", state.neighbour_rebuilds);
     f("frame_steps", state.frame_steps);
     f("frame_times", state.frame_times);
     f("field_interval", state.field_interval);
