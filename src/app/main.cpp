@@ -87,6 +87,9 @@ CommandLine parse_command_line(int argc, char** argv) {
     else if (is(i, "--restart")) once(cl.restart_file, "--restart", value_of(i, "--restart"));
     else if (is(i, "--inject-nan")) {
       const std::string step = value_of(i, "--inject-nan");
+      if (cl.inject_nan_at_step >= 0)
+        throw poresph::ParameterError("--inject-nan given twice: '" + std::to_string(cl.inject_nan_at_step) +
+                                      "' and '" + step + "'");
       const auto parsed = poresph::parse_number<long long>(step);
       if (!parsed.value || *parsed.value < 1)
         throw poresph::ParameterError("--inject-nan needs a step number >= 1, not '" + step + "'");

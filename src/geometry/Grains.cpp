@@ -15,6 +15,7 @@
 #include <tuple>
 
 #include "geometry/GrainBins.hpp"
+#include "io/PathCheck.hpp"
 #include "io/TextValues.hpp"
 
 namespace poresph {
@@ -46,20 +47,24 @@ void for_each_close_pair(const std::vector<Grain>& grains, const SceneConfig& sc
 }  // namespace
 
 std::vector<Grain> read_grain_file(const std::string& path, int dimension) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  const auto status = fs::status(path, error);
   const std::string cannot = "Grains/File: cannot open '" + path + "': ";
-  if (!fs::exists(status)) throw std::invalid_argument(cannot + "no such file");
   // A directory or a device reads as no lines at all: zero grains, porosity 1, without a word.
-  if (fs::is_directory(status)) throw std::invalid_argument(cannot + "it is a directory, not a grain file");
-  if (!fs::is_regular_file(status)) throw std::invalid_argument(cannot + "it is not a regular file");
+  if (const std::string problem = regular_file_problem(path, "a grain file"); !problem.empty())
+    throw std::invalid_argument(cannot + problem);
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(cannot + std::strerror(errno));
   std::vector<Grain> grains;
   std::string line;
   bool header_allowed = true;
   for (int number = 1; std::getline(in, line); ++number) {
+    // A text editor's UTF-8 byte order mark is no part of the first number;
+    // a file in UTF-16 (every other byte zero) is not read as garbage numbers.
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+    if (line.find('\0') != std::string::npos ||
+        (number == 1 && (line.rfind("\xFF\xFE", 0) == 0 || line.rfind("\xFE\xFF", 0) == 0)))
+      throw std::invalid_argument("Grains/File '" + path + "':" + std::to_string(number) +
+                                  ": the file is not text in UTF-8 or ASCII (it holds zero bytes, as UTF-16 does): "
+                                  "save it as plain text");
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
     // DEM and packing tools write spheres as CSV as often as in columns:

@@ -10,6 +10,9 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "io/PathCheck.hpp"
+#include "io/Summary.hpp"
+
 namespace poresph {
 namespace {
 
@@ -311,12 +314,7 @@ std::string Hdf5File::string_attribute(const std::string& name) const {
 }
 
 std::string hdf5_file_problem(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  const auto status = fs::status(path, error);
-  if (!fs::exists(status)) return "no such file";
-  if (fs::is_directory(status)) return "it is a directory, not a file";
-  if (!fs::is_regular_file(status)) return "it is not a regular file";
+  if (const std::string problem = regular_file_problem(path, "a file"); !problem.empty()) return problem;
   std::ifstream in(path, std::ios::binary);
   char signature[8] = {};
   if (!in.read(signature, sizeof signature)) return in.is_open() ? "it is too short to be an HDF5 file" : std::strerror(errno);

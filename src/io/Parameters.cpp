@@ -21,12 +21,16 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <type_traits>
 
+#include "io/PathCheck.hpp"
 #include "io/TextValues.hpp"
+#include "io/XmlText.hpp"
 
 namespace poresph {
 namespace {
@@ -363,6 +367,7 @@ std::string suggestion(const ParameterList& valid, const std::string& name) {
   for (auto it = valid.begin(); it != valid.end(); ++it) {
     const std::string& candidate = valid.name(it);
     names += (names.empty() ? "" : ", ") + candidate;
+    if (candidate == name) continue;  // the name itself is no suggestion (a value given for a group, say)
     const size_t d = edit_distance(name, candidate);
     if (d < best_distance) best_distance = d, best = candidate;
   }
@@ -413,13 +418,19 @@ void read_xml_list(const Teuchos::XMLObject& xml, const ParameterList& valid, Pa
       throw ParameterError(file + ": " + full + " is given twice " + group +
                            "; remove one (which of them should count is not for PoreSPH to guess)");
     if (tag == "ParameterList") {
+      if (valid.isParameter(name) && !valid.isSublist(name))
+        throw ParameterError(file + ": " + full + " is a parameter, not a group of them: write it as <Parameter name=\"" +
+                             name + "\" type=\"" + valid.getEntry(name).getAny().typeName() + "\" value=\"...\"/>");
       if (!valid.isSublist(name))
         throw ParameterError(file + ": there is no parameter group '" + full + "'" + suggestion(valid, name) +
                              " (see poresph --help-parameters)");
       read_xml_list(child, valid.sublist(name), target.sublist(name), full + "/", file);
       continue;
     }
-    if (!valid.isParameter(name) || valid.isSublist(name))
+    if (valid.isSublist(name))
+      throw ParameterError(file + ": " + full + " is a group of parameters, not a value: write it as <ParameterList "
+                           "name=\"" + name + "\"> holding its <Parameter> elements (see poresph --help-parameters)");
+    if (!valid.isParameter(name))
       throw ParameterError(file + ": unknown parameter " + full + suggestion(valid, name) +
                            " (see poresph --help-parameters)");
     const auto& expected = valid.getEntry(name);
@@ -453,6 +464,118 @@ void check_types(const ParameterList& list, const ParameterList& valid, const st
                            (entry.isList() ? std::string("ParameterList") : entry.getAny().typeName()) +
                            ", expected " +
                            (expected.isList() ? std::string("ParameterList") : expected.getAny().typeName()));
+    }
+  }
+}
+
+// What the scene asks to measure must be measurable: k needs a body force,
+// and along one axis unless Permeability/Tensor drives each axis in turn.
+// Asked of a scene that cannot give it, it used to be skipped without a
+// word (no k, no history, a steady tolerance ignored, a ladder of nothing).
+void check_measurement(const SceneConfig& scene) {
+  int components = 0;
+  double magnitude = 0;
+  std::ostringstream force;
+  force << std::setprecision(10) << "(";
+  for (int d = 0; d < scene.dimension; ++d) {
+    components += scene.body_force[d] != 0;
+    magnitude += scene.body_force[d] * scene.body_force[d];
+    force << (d ? ", " : "") << scene.body_force[d];
+  }
+  force << ")";
+  magnitude = std::sqrt(magnitude);
+  if (!std::isfinite(magnitude)) return;  // named as such by the scene check (app/SceneCheck.cpp)
+  if (components > 1 && !scene.permeability_tensor) {
+    std::ostringstream msg;
+    msg << std::setprecision(10) << "Fluid/Body Force = " << force.str()
+        << " does not lie along one axis: k is measured along the one axis the force drives. Put the force along "
+           "an axis, or set Permeability/Tensor = true to drive each axis in turn with its magnitude "
+        << magnitude << " and measure the whole tensor";
+    throw ParameterError(msg.str());
+  }
+  if (components > 0) return;
+  std::vector<std::string> asked;
+  if (scene.permeability_tensor) asked.push_back("Permeability/Tensor");
+  if (scene.steady_tolerance > 0) asked.push_back("Permeability/Steady Tolerance");
+  if (scene.steady_window > 0) asked.push_back("Permeability/Steady Window");
+  if (scene.linearity_check) asked.push_back("Permeability/Linearity Check");
+  if (scene.convergence_levels > 1) asked.push_back("Convergence/Levels");
+  if (asked.empty()) return;
+  std::string names;
+  for (size_t k = 0; k < asked.size(); ++k) names += (k ? (k + 1 == asked.size() ? " and " : ", ") : "") + asked[k];
+  throw ParameterError(names + (asked.size() > 1 ? " ask" : " asks") +
+                       " for the permeability, which a body force measures, and Fluid/Body Force is zero here: give "
+                       "one (along the axis to measure), or leave " +
+                       (asked.size() > 1 ? "them" : "it") + " at the default");
+}
+
+// "at least 0", "between 1e-06 and 0.5": a validator's range in words; the
+// largest numbers stand for no bound.
+template <class T>
+std::string range_text(T lo, T hi) {
+  constexpr T most = std::numeric_limits<T>::max();
+  std::ostringstream out;
+  out << std::setprecision(10);
+  const bool bounded_below = lo > -most, bounded_above = hi < most;
+  if (bounded_below && bounded_above) out << "between " << lo << " and " << hi;
+  else if (bounded_below) out << "at least " << lo;
+  else if (bounded_above) out << "at most " << hi;
+  return out.str();
+}
+
+// Each value against its validator's range or words, with a message in the
+// scene's terms (Teuchos's own says the same after lines of its source
+// paths). What Teuchos validates besides is left to it.
+void check_ranges(const ParameterList& list, const ParameterList& valid, const std::string& path) {
+  for (auto it = list.begin(); it != list.end(); ++it) {
+    const std::string& name = list.name(it);
+    if (!valid.isParameter(name)) continue;
+    const std::string full = path + name;
+    if (valid.isSublist(name)) {
+      if (list.isSublist(name)) check_ranges(list.sublist(name), valid.sublist(name), full + "/");
+      continue;
+    }
+    const auto validator = valid.getEntry(name).validator();
+    if (validator.is_null()) continue;
+    // what: "" for the value itself, "element 2" for one of an array.
+    auto refuse = [&](const std::string& what, const std::string& value, const std::string& range) {
+      throw ParameterError(full + (what.empty() ? "" : ": " + what) + " = " + value + " is out of range: it must be " +
+                           range);
+    };
+    auto number = [](auto v) {
+      std::ostringstream out;
+      out << std::setprecision(10) << v;
+      return out.str();
+    };
+    auto check = [&](auto value, const auto& numbers, const std::string& what) {
+      if (value < numbers.getMin() || value > numbers.getMax())
+        refuse(what, number(value), range_text(numbers.getMin(), numbers.getMax()));
+    };
+    using Teuchos::rcp_dynamic_cast;
+    if (const auto v = rcp_dynamic_cast<const Teuchos::EnhancedNumberValidator<double>>(validator); !v.is_null()) {
+      check(list.get<double>(name), *v, "");
+    } else if (const auto i = rcp_dynamic_cast<const Teuchos::EnhancedNumberValidator<int>>(validator); !i.is_null()) {
+      check(list.get<int>(name), *i, "");
+    } else if (const auto a = rcp_dynamic_cast<const Teuchos::ArrayNumberValidator<double>>(validator); !a.is_null()) {
+      const auto values = list.get<Array<double>>(name);
+      for (Teuchos::Ordinal k = 0; k < values.size(); ++k)
+        check(values[k], *a->getPrototype(), "element " + std::to_string(k + 1));
+    } else if (const auto b = rcp_dynamic_cast<const Teuchos::ArrayNumberValidator<int>>(validator); !b.is_null()) {
+      const auto values = list.get<Array<int>>(name);
+      for (Teuchos::Ordinal k = 0; k < values.size(); ++k)
+        check(values[k], *b->getPrototype(), "element " + std::to_string(k + 1));
+    } else if (const auto w = rcp_dynamic_cast<const Teuchos::StringValidator>(validator); !w.is_null()) {
+      const auto& words = *w->validStringValues();
+      const std::string value = list.get<std::string>(name);
+      if (std::find(words.begin(), words.end(), value) != words.end()) continue;
+      std::string listed, nearest;
+      size_t nearest_distance = 3;
+      for (const auto& word : words) {
+        listed += (listed.empty() ? "'" : ", '") + word + "'";
+        if (const size_t d = edit_distance(value, word); d < nearest_distance) nearest_distance = d, nearest = word;
+      }
+      throw ParameterError(full + ": '" + value + "' is not one of its values, " + listed +
+                           (nearest.empty() ? "" : "; did you mean '" + nearest + "'?"));
     }
   }
 }
@@ -671,7 +794,7 @@ void print_valid_parameters(std::ostream& os) {
   valid_parameters()->print(os, ParameterList::PrintOptions().showTypes(true).showDoc(true).indent(2));
 }
 
-void apply_override(ParameterList& list, const std::string& assignment) {
+std::string apply_override(ParameterList& list, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw ParameterError("--set expects \"Sublist/Parameter Name=value\", got '" + assignment + "'");
@@ -680,27 +803,43 @@ void apply_override(ParameterList& list, const std::string& assignment) {
   const ParameterList* valid = valid_parameters().get();
   ParameterList* target = &list;
   for (size_t k = 0; k + 1 < parts.size(); ++k) {
+    if (valid->isParameter(parts[k]) && !valid->isSublist(parts[k]))
+      throw ParameterError("--set " + path + ": '" + parts[k] + "' is a parameter, not a group of them");
     if (!valid->isSublist(parts[k]))
-      throw ParameterError("--set " + path + ": there is no parameter group '" + parts[k] +
-                           "' (see poresph --help-parameters)");
+      throw ParameterError("--set " + path + ": there is no parameter group '" + parts[k] + "'" +
+                           suggestion(*valid, parts[k]) + " (see poresph --help-parameters)");
     valid = &valid->sublist(parts[k]);
     target = &target->sublist(parts[k]);
   }
-  const std::string& name = parts.back();
-  if (parts.size() < 2 || !valid->isParameter(name) || valid->isSublist(name))
+  const std::string& name = parts.empty() ? path : parts.back();
+  if (!parts.empty() && valid->isSublist(name))
+    throw ParameterError("--set " + path + ": '" + name + "' is a group of parameters, not a value: give one of "
+                         "them, as --set \"" + path + "/Parameter Name=value\" (see poresph --help-parameters)");
+  if (parts.size() < 2 || !valid->isParameter(name))
     throw ParameterError("--set " + path + ": unknown parameter" + suggestion(*valid, name) +
                          " (see poresph --help-parameters)");
+  // What is written back (parameters_used.xml, summary.json) is UTF-8, as the scene's XML is.
+  for (size_t k = 0; k < text.size();) {
+    const size_t n = xml_text_detail::utf8_length(text, k);
+    if (n == 0)
+      throw ParameterError("--set " + path + ": the value holds the byte " +
+                           xml_text_detail::hex_byte(static_cast<unsigned char>(text[k])) +
+                           ", which is not UTF-8: give it in UTF-8 (the terminal's encoding is another)");
+    k += n;
+  }
   set_from_text(*target, valid->getEntry(name), name, text, "--set " + path);
+  return path;
 }
 
 void validate_parameters(ParameterList& list) {
   // Names, types and ranges first, so that a misspelt required parameter is
   // reported as the unknown name it is, with the valid names beside it.
   check_types(list, *valid_parameters(), "");
+  check_ranges(list, *valid_parameters(), "");
   try {
     list.validateParameters(*valid_parameters());
   } catch (const std::exception& e) {
-    throw ParameterError(std::string("invalid scene parameters:\n") + e.what());
+    throw ParameterError(std::string("invalid scene parameters: ") + teuchos_message(e.what()));
   }
   // Teuchos has no notion of a required parameter.
   const std::pair<const char*, const char*> required[] = {{"Domain", "Cell Size"},
@@ -720,29 +859,39 @@ void validate_parameters(ParameterList& list) {
 }
 
 RCP<ParameterList> read_parameters(const std::string& xml_file, const std::vector<std::string>& overrides) {
-  namespace fs = std::filesystem;
   const std::string cannot = "cannot read scene file '" + xml_file + "': ";
-  std::error_code error;
-  const auto status = fs::status(xml_file, error);
-  if (!fs::exists(status)) throw ParameterError(cannot + "no such file");
-  if (fs::is_directory(status)) throw ParameterError(cannot + "it is a directory, not an XML file");
-  if (!fs::is_regular_file(status)) throw ParameterError(cannot + "it is not a regular file");
+  if (const std::string problem = regular_file_problem(xml_file, "an XML file"); !problem.empty())
+    throw ParameterError(cannot + problem);
   std::ifstream in(xml_file, std::ios::binary);
   std::stringstream text;
   text << in.rdbuf();
   if (!in) throw ParameterError(cannot + std::strerror(errno));
   if (trimmed(text.str()).empty()) throw ParameterError(cannot + "the file is empty");
+  std::string xml_text;
+  try {
+    xml_text = xml_text_for_parser(text.str());
+  } catch (const std::invalid_argument& e) {
+    throw ParameterError(cannot + e.what());
+  }
   Teuchos::XMLObject xml;
   try {
-    xml = Teuchos::StringInputSource(text.str()).getObject();
+    xml = Teuchos::StringInputSource(xml_text).getObject();
   } catch (const std::exception& e) {
-    throw ParameterError(cannot + "it is not well-formed XML:\n" + e.what());
+    throw ParameterError(cannot + "it is not well-formed XML: " + teuchos_message(e.what()));
   }
   if (xml.getTag() != "ParameterList")
     throw ParameterError(cannot + "its top element is <" + xml.getTag() + ">, not <ParameterList>");
   auto list = rcp(new ParameterList(xml.hasAttribute("name") ? xml.getAttribute("name") : "PoreSPH"));
   read_xml_list(xml, *valid_parameters(), *list, "", xml_file);
-  for (const auto& assignment : overrides) apply_override(*list, assignment);
+  // As in the XML, a parameter given twice is refused: which of them was meant is not for PoreSPH to guess.
+  std::map<std::string, std::string> given;
+  for (const auto& assignment : overrides) {
+    const std::string path = apply_override(*list, assignment);
+    const auto [earlier, first] = given.emplace(path, assignment);
+    if (!first)
+      throw ParameterError("--set " + path + " is given twice ('" + earlier->second + "' and '" + assignment +
+                           "'); remove one (which of them should count is not for PoreSPH to guess)");
+  }
   validate_parameters(*list);
   return list;
 }
@@ -755,7 +904,12 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   // lead anywhere else.
   if (scene.name.find_first_of("/\\") != std::string::npos)
     fail("Scene/Name '" + scene.name + "' contains a path separator; name the output directory with --output");
-  if (scene.name.find('\0') != std::string::npos) fail("Scene/Name contains a NUL character");
+  // It names a directory and is written into XML and JSON: a control
+  // character (a tab, a newline) would not come back as it was written.
+  for (unsigned char c : scene.name)
+    if (c < 0x20 || c == 0x7F)
+      fail("Scene/Name contains a control character (code " + std::to_string(c) +
+           "): a name is written on one line, without tabs or other control characters");
 
   const auto& domain = list.sublist("Domain");
   const auto cell = domain.get<Array<double>>("Cell Size");
@@ -902,6 +1056,8 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.steady_tolerance = permeability.get<double>("Steady Tolerance");
   scene.steady_window = permeability.get<double>("Steady Window");
 
+  check_measurement(scene);
+
   const auto& output = list.sublist("Output");
   scene.write_final_particles = output.get<bool>("Final Particles CSV");
   scene.field_interval = output.get<double>("Field Interval");
@@ -922,6 +1078,9 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.grid_points.assign(grid_points.begin(), grid_points.end());
   if (!scene.grid_points.empty() && static_cast<int>(scene.grid_points.size()) != scene.dimension)
     fail("Output/Grid Points needs one count per direction (" + std::to_string(scene.dimension) + ")");
+  if (!scene.grid_points.empty() && !(scene.field_interval > 0))
+    fail("Output/Grid Points is given, but the grid is written with the field files and Output/Field Interval is 0 "
+         "(none are written): set Output/Field Interval, or leave Output/Grid Points empty");
   scene.checkpoint_interval = output.get<int>("Checkpoint Interval");
   scene.final_checkpoint = output.get<bool>("Final Checkpoint");
   scene.density_variation_limit = list.sublist("Checks").get<double>("Density Variation Limit");
@@ -941,6 +1100,9 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
 
   const auto samples = list.sublist("Diagnostics").get<Array<double>>("Profile Sample Times");
   scene.profile_sample_times.assign(samples.begin(), samples.end());
+  if (!scene.profile_sample_times.empty() && scene.walls != WallType::Channel)
+    fail("Diagnostics/Profile Sample Times compares a channel's velocity profile with its series solution, and this "
+         "scene has no channel (Walls/Type = channel): leave it empty");
   return scene;
 }
 

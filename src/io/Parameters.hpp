@@ -25,8 +25,8 @@ Teuchos::RCP<const Teuchos::ParameterList> valid_parameters();
 void print_valid_parameters(std::ostream& os);
 
 // "Sublist/Parameter Name=value" applied to `list`; the type comes from the
-// valid list, so an unknown path is an error naming it.
-void apply_override(Teuchos::ParameterList& list, const std::string& assignment);
+// valid list, so an unknown path is an error naming it. Returns the path.
+std::string apply_override(Teuchos::ParameterList& list, const std::string& assignment);
 
 // Reads `xml_file`, applies the overrides, checks required values and
 // validates (filling in defaults). Throws ParameterError.
