@@ -172,6 +172,21 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   } catch (const std::invalid_argument& error) {
     throw ParameterError(error.what());
   }
+  // A periodic side must hold the kernel's reach (3h, and the skin of moving
+  // particles) at every level's spacing: a particle must not meet its own image.
+  for (size_t l = 0; l < spacings.size(); ++l)
+    for (int d = 0; d < D; ++d) {
+      const double reach = list_reach(scene) * spacings[l];
+      if (!scene.periodic[d] || scene.cell_size[d] >= reach) continue;
+      std::ostringstream level;
+      if (spacings.size() > 1) level << " (level " << l + 1 << " of Convergence/Levels " << spacings.size() << ")";
+      refuse("Domain/Cell Size[", d, "] = ", scene.cell_size[d], " is narrower than the kernel's reach at spacing ",
+             spacings[l], level.str(), ", ", reach, " (3h",
+             scene.particle_motion == ParticleMotion::Fixed ? "" : " + Discretization/Neighbour Skin",
+             ", h = Discretization/Smoothing Length Ratio x spacing): a periodic cell must be at least that wide. "
+             "Use a spacing of at most ", scene.cell_size[d] / list_reach(scene),
+             spacings.size() > 1 ? " at the coarsest level (fewer levels, or a smaller ratio)" : "");
+    }
   for (size_t l = 0; l + 1 < spacings.size(); ++l) {
     SceneConfig level = scene;
     level.particle_spacing = spacings[l];

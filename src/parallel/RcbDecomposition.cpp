@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -27,34 +30,13 @@ std::string cuts_per_level(int parts) {
   return text.empty() ? "1" : text;
 }
 
-}  // namespace
-
+// The boxes of `parts` parts of the particles-to-be (coordinates and ids
+// of this process's share), by Zoltan2 on the processes of `comm`.
 template <int Dim>
-Decomposition<Dim> rcb_decomposition(const SceneConfig& scene, const Communicator& comm) {
-  std::array<double, Dim> cell{};
-  std::array<bool, Dim> periodic{};
-  for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d];
-  const int parts = comm.size();
-  if (parts == 1) {
-    std::array<std::vector<double>, Dim> whole;
-    for (int d = 0; d < Dim; ++d) whole[d] = {0.0, cell[d]};
-    return Decomposition<Dim>::cartesian(cell, periodic, whole);
-  }
-
-  // The particles-to-be of an x slab per rank: every lattice point is
-  // classified once, by one rank, and no rank holds them all.
-  double lo[Dim], hi[Dim];
-  for (int d = 0; d < Dim; ++d) lo[d] = -1e300, hi[d] = 1e300;
-  lo[0] = cell[0] * comm.rank() / parts;
-  hi[0] = comm.rank() + 1 == parts ? cell[0] : cell[0] * (comm.rank() + 1) / parts;
-  const auto seeds = fill_lattice<Dim>(scene, lo, hi);
-  const int n = static_cast<int>(seeds.size());
-  std::vector<double> coordinates(static_cast<size_t>(n) * Dim);
-  std::vector<long long> ids(n);
-  for (int i = 0; i < n; ++i) {
-    for (int d = 0; d < Dim; ++d) coordinates[i * Dim + d] = seeds[i].x[d];
-    ids[i] = seeds[i].id;
-  }
+std::vector<Box<Dim>> rcb_boxes(const std::array<double, Dim>& cell, const std::array<bool, Dim>& periodic,
+                                std::vector<double>& coordinates, std::vector<long long>& ids,
+                                const Communicator& comm, int parts) {
+  const int n = static_cast<int>(ids.size());
 
   using Types = Zoltan2::BasicUserTypes<double, int, long long>;
   using Adapter = Zoltan2::BasicVectorAdapter<Types>;
@@ -88,9 +70,64 @@ Decomposition<Dim> rcb_decomposition(const SceneConfig& scene, const Communicato
       box.hi[d] = b.getlmaxs()[d] >= high[d] ? (periodic[d] ? cell[d] : INFINITY) : b.getlmaxs()[d];
     }
   }
-  Decomposition<Dim> decomposition(boxes, cell, periodic);
-  decomposition.check(parts);
-  return decomposition;
+  return boxes;
+}
+
+}  // namespace
+
+template <int Dim>
+Decomposition<Dim> rcb_decomposition(const SceneConfig& scene, const Communicator& comm) {
+  std::array<double, Dim> cell{};
+  std::array<bool, Dim> periodic{};
+  for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d];
+  const int parts = comm.size();
+  if (parts == 1) {
+    std::array<std::vector<double>, Dim> whole;
+    for (int d = 0; d < Dim; ++d) whole[d] = {0.0, cell[d]};
+    return Decomposition<Dim>::cartesian(cell, periodic, whole);
+  }
+
+  // The particles-to-be of an x slab per rank: every lattice point is
+  // classified once, by one rank, and no rank holds them all.
+  double lo[Dim], hi[Dim];
+  for (int d = 0; d < Dim; ++d) lo[d] = -1e300, hi[d] = 1e300;
+  lo[0] = cell[0] * comm.rank() / parts;
+  hi[0] = comm.rank() + 1 == parts ? cell[0] : cell[0] * (comm.rank() + 1) / parts;
+  const auto seeds = fill_lattice<Dim>(scene, lo, hi);
+  const int n = static_cast<int>(seeds.size());
+  std::vector<double> coordinates(static_cast<size_t>(n) * Dim);
+  std::vector<long long> ids(n);
+  for (int i = 0; i < n; ++i) {
+    for (int d = 0; d < Dim; ++d) coordinates[i * Dim + d] = seeds[i].x[d];
+    ids[i] = seeds[i].id;
+  }
+  // The decomposition into `count` parts, or why there is none; every
+  // process gets the same boxes, so the same answer.
+  auto split = [&](int count, std::string& why) -> std::optional<Decomposition<Dim>> {
+    try {
+      Decomposition<Dim> decomposition(rcb_boxes<Dim>(cell, periodic, coordinates, ids, comm, count), cell, periodic);
+      decomposition.check(count);
+      return decomposition;
+    } catch (const std::exception& e) {
+      why = e.what();
+      return std::nullopt;
+    }
+  };
+  std::string why, ignored;
+  auto decomposition = split(parts, why);
+  if (!decomposition) {
+    // Too many processes for too few particles: say how many would do.
+    long long particles = comm.sum(static_cast<long long>(n));
+    int fewer = parts - 1;
+    while (fewer > 1 && !split(fewer, ignored)) --fewer;
+    std::ostringstream msg;
+    msg << "the cell cannot be split into " << parts << " sub-domains for " << parts << " processes (" << why
+        << "): its " << particles << " particles at Discretization/Particle Spacing " << scene.particle_spacing
+        << " are too few to share so many ways. Run on at most " << fewer << " process" << (fewer == 1 ? "" : "es")
+        << " (mpiexec -n " << fewer << "), or at a finer spacing";
+    throw std::invalid_argument(msg.str());
+  }
+  return *decomposition;
 }
 
 template Decomposition<2> rcb_decomposition<2>(const SceneConfig&, const Communicator&);
