@@ -143,9 +143,13 @@ MemoryBudget memory_budget(const SceneConfig& scene, int processes_on_machine) {
     budget.source = "Run/Memory Limit";
     return budget;
   }
-  budget.available_bytes = memory_available_bytes();
-  budget.source = std::isfinite(budget.available_bytes) ? "MemAvailable in /proc/meminfo"
-                                                         : "unknown (no /proc/meminfo)";  // infinite: no memory check
+  // MemAvailable is the machine's, shared by its processes; an address-space limit is each process's own.
+  const double machine = meminfo_available_bytes();
+  const double processes = address_space_left_bytes() * budget.processes_on_machine;
+  budget.available_bytes = std::min(machine, processes);
+  budget.source = processes < machine              ? "what is left of the address-space limit (ulimit -v) of each process"
+                  : std::isfinite(machine) ? "MemAvailable in /proc/meminfo"
+                                           : "unknown (no /proc/meminfo)";  // infinite: no memory check
   return budget;
 }
 

@@ -1,6 +1,12 @@
 #pragma once
-// What Linux can give a process without swapping (MemAvailable, page cache
-// included), or infinity where /proc/meminfo does not say.
+// What a process can still allocate: what Linux can give without swapping
+// (MemAvailable, page cache included), or, where the process's address
+// space is limited (ulimit -v, a batch system's memory limit), what is left
+// of that limit, whichever is smaller; infinity where neither is known.
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -8,7 +14,12 @@
 
 namespace poresph {
 
-inline double memory_available_bytes() {
+struct AvailableMemory {
+  double bytes = INFINITY;
+  std::string source;  // where the figure comes from, for messages
+};
+
+inline double meminfo_available_bytes() {
   std::ifstream meminfo("/proc/meminfo");
   std::string key;
   double kilobytes = 0;
@@ -18,5 +29,32 @@ inline double memory_available_bytes() {
   }
   return INFINITY;
 }
+
+// The address-space limit less what the process has mapped already; infinity without a limit.
+inline double address_space_left_bytes() {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return INFINITY;
+  std::ifstream statm("/proc/self/statm");
+  double pages = 0;
+  statm >> pages;
+  return std::max(0.0, static_cast<double>(limit.rlim_cur) - pages * static_cast<double>(sysconf(_SC_PAGESIZE)));
+}
+
+inline AvailableMemory memory_available() {
+  AvailableMemory m;
+  const double machine = meminfo_available_bytes(), address_space = address_space_left_bytes();
+  if (address_space < machine) {
+    m.bytes = address_space;
+    m.source = "what is left of the process's address-space limit (ulimit -v)";
+  } else if (std::isfinite(machine)) {
+    m.bytes = machine;
+    m.source = "MemAvailable in /proc/meminfo";
+  } else {
+    m.source = "unknown (no /proc/meminfo)";
+  }
+  return m;
+}
+
+inline double memory_available_bytes() { return memory_available().bytes; }
 
 }  // namespace poresph

@@ -16,6 +16,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "io/PathCheck.hpp"
+
 namespace poresph {
 namespace {
 
@@ -25,12 +27,19 @@ namespace {
 
 // A directory or a device would read as an empty or endless image.
 void check_regular_file(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  const auto status = fs::status(path, error);
-  if (!fs::exists(status)) refuse(path, "no such file");
-  if (fs::is_directory(status)) refuse(path, "it is a directory, not an image");
-  if (!fs::is_regular_file(status)) refuse(path, "it is not a regular file");
+  if (const std::string problem = regular_file_problem(path, "an image"); !problem.empty()) refuse(path, problem);
+}
+
+// "nx x ny" or "nx x ny x nz".
+std::string shape_words(const std::vector<long long>& shape) {
+  std::string text;
+  for (size_t d = 0; d < shape.size(); ++d) text += (d ? " x " : "") + std::to_string(shape[d]);
+  return text;
+}
+
+// The declared size, to the caller's check, before it is allocated.
+void check_size(const ImageSizeCheck& check, long long voxels, const std::vector<long long>& shape) {
+  if (check) check(voxels, shape_words(shape));
 }
 
 // nx * ny * nz, refused where it would not fit the memory's index.
@@ -121,7 +130,7 @@ std::string lower_extension(const std::string& path) {
 
 }  // namespace
 
-VoxelImage read_png(const std::string& path) {
+VoxelImage read_png(const std::string& path, const ImageSizeCheck& check) {
   check_regular_file(path);
   File file(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!file) refuse(path, std::strerror(errno));
@@ -156,6 +165,7 @@ VoxelImage read_png(const std::string& path) {
   image.shape = {{static_cast<long long>(width), static_cast<long long>(height), 1}};
   image.bits = depth == 16 ? 16 : 8;
   const long long count = voxel_count(path, {image.shape[0], image.shape[1]});
+  check_size(check, count, {image.shape[0], image.shape[1]});
   const size_t row_bytes = png_get_rowbytes(reader.png, reader.info);
   const size_t pixel_bytes = image.bits / 8;
   if (row_bytes != pixel_bytes * width) refuse(path, "unexpected PNG row size");
@@ -177,7 +187,7 @@ VoxelImage read_png(const std::string& path) {
   return image;
 }
 
-VoxelImage read_tiff(const std::string& path) {
+VoxelImage read_tiff(const std::string& path, const ImageSizeCheck& check) {
   check_regular_file(path);
   TiffError error;
   std::unique_ptr<TIFFOpenOptions, void (*)(TIFFOpenOptions*)> options(TIFFOpenOptionsAlloc(), &TIFFOpenOptionsFree);
@@ -188,6 +198,9 @@ VoxelImage read_tiff(const std::string& path) {
   if (!tiff) refuse(path, std::string("unreadable TIFF: ") + error.message);
 
   VoxelImage image;
+  // The pages' count, from the chain of their headers, so that the whole
+  // volume's size is checked before any of it is allocated.
+  const long long page_count = std::max<long long>(1, TIFFNumberOfDirectories(tiff.get()));
   long long pages = 0;
   std::uint32_t width = 0, height = 0;
   std::uint16_t bits = 0;
@@ -217,6 +230,11 @@ VoxelImage read_tiff(const std::string& path) {
                        " bits, page 1 " + std::to_string(width) + " x " + std::to_string(height) + " of " +
                        std::to_string(bits) + ": the pages of a stack are the z layers of one volume");
     }
+    if (pages == 0) {
+      const std::vector<long long> shape = page_count > 1 ? std::vector<long long>{w, h, page_count}
+                                                          : std::vector<long long>{w, h};
+      check_size(check, voxel_count(path, shape), shape);
+    }
     const long long per_page = voxel_count(path, {w, h, pages + 1}) / (pages + 1);
     image.values.resize(static_cast<size_t>(per_page * (pages + 1)));
     image.shape = {{static_cast<long long>(w), static_cast<long long>(h), pages + 1}};
@@ -235,6 +253,9 @@ VoxelImage read_tiff(const std::string& path) {
       TIFFGetField(tiff.get(), TIFFTAG_TILEWIDTH, &tile_w);
       TIFFGetField(tiff.get(), TIFFTAG_TILELENGTH, &tile_h);
       if (tile_w == 0 || tile_h == 0) refuse(path, page + " is tiled with tiles of no size");
+      // A tile is allocated whole: one declared far larger than the page is checked too.
+      if (static_cast<long long>(tile_w) * tile_h > static_cast<long long>(w) * h)
+        check_size(check, voxel_count(path, {tile_w, tile_h}), {tile_w, tile_h});
       std::vector<unsigned char> tile(static_cast<size_t>(TIFFTileSize(tiff.get())));
       if (tile.size() < size_t{tile_w} * tile_h * bytes_per_value) refuse(path, page + ": unexpected tile size");
       for (std::uint32_t y0 = 0; y0 < h; y0 += tile_h)
@@ -263,7 +284,7 @@ VoxelImage read_tiff(const std::string& path) {
   return image;
 }
 
-VoxelImage read_raw(const std::string& path, const RawLayout& layout) {
+VoxelImage read_raw(const std::string& path, const RawLayout& layout, const ImageSizeCheck& check) {
   check_regular_file(path);
   if (layout.shape.size() != 2 && layout.shape.size() != 3)
     refuse(path, "a raw image needs Image/Shape: {nx, ny} or {nx, ny, nz}");
@@ -283,6 +304,7 @@ VoxelImage read_raw(const std::string& path, const RawLayout& layout) {
                      (bytes < static_cast<unsigned long long>(count * bytes_per_value)
                           ? " (the file is cut short, or Image/Shape or Image/Type says too much)"
                           : " (Image/Shape or Image/Type says too little)"));
+  check_size(check, count, layout.shape);
   std::ifstream in(path, std::ios::binary);
   std::vector<unsigned char> data(static_cast<size_t>(count * bytes_per_value));
   in.read(reinterpret_cast<char*>(data.data()), static_cast<std::streamsize>(data.size()));
@@ -294,11 +316,11 @@ VoxelImage read_raw(const std::string& path, const RawLayout& layout) {
   return image;
 }
 
-VoxelImage read_image(const std::string& path, const RawLayout& raw) {
+VoxelImage read_image(const std::string& path, const RawLayout& raw, const ImageSizeCheck& check) {
   const std::string ext = lower_extension(path);
-  if (ext == ".png") return read_png(path);
-  if (ext == ".tif" || ext == ".tiff") return read_tiff(path);
-  if (ext == ".raw") return read_raw(path, raw);
+  if (ext == ".png") return read_png(path, check);
+  if (ext == ".tif" || ext == ".tiff") return read_tiff(path, check);
+  if (ext == ".raw") return read_raw(path, raw, check);
   refuse(path, "unknown image format '" + ext + "': the name must end in .png, .tif, .tiff or .raw");
 }
 

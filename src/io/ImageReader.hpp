@@ -8,6 +8,7 @@
 // Every reader throws std::invalid_argument naming the file and what is
 // wrong with it (missing, truncated, colour, not the shape or type said)
 // before anything else is done with the scene.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -22,20 +23,26 @@ struct RawLayout {
   int bits = 8;
 };
 
+// Called with the number of voxels a file declares, and its shape ("nx x ny
+// (x nz)"), once its header is read and before anything of that size is
+// allocated: it throws to refuse an image too large for the memory. A
+// header of a few hundred bytes can declare 10^10 voxels.
+using ImageSizeCheck = std::function<void(long long voxels, const std::string& shape)>;
+
 // 8 or 16-bit greyscale (1, 2 and 4 bits are read as 8, the values kept);
 // refuses palette, colour and alpha images.
-VoxelImage read_png(const std::string& path);
+VoxelImage read_png(const std::string& path, const ImageSizeCheck& check = {});
 
 // 8 or 16-bit greyscale unsigned samples, in strips or tiles; one page is a
 // 2D image, several pages of one size a 3D stack, page p at z = p. Values
 // are kept as stored, also where the file says 0 is white (a label is a
 // label, however a viewer shades it).
-VoxelImage read_tiff(const std::string& path);
+VoxelImage read_tiff(const std::string& path, const ImageSizeCheck& check = {});
 
 // Headerless values; the file's size must be exactly the layout's.
-VoxelImage read_raw(const std::string& path, const RawLayout& layout);
+VoxelImage read_raw(const std::string& path, const RawLayout& layout, const ImageSizeCheck& check = {});
 
 // By the extension (any case): .png, .tif or .tiff, .raw (with `raw`).
-VoxelImage read_image(const std::string& path, const RawLayout& raw);
+VoxelImage read_image(const std::string& path, const RawLayout& raw, const ImageSizeCheck& check = {});
 
 }  // namespace poresph

@@ -660,30 +660,34 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   const bool is_raw = extension == ".raw";
   if (is_raw && raw.shape.empty())
     throw ParameterError("Image/Shape is required for a .raw image ('" + file + "' says nothing of its own shape)");
+  // Its walls are made after it is read (the distance field, about
+  // kImageSetupBytes a voxel for a moment, mirrored voxels counted twice):
+  // checked against the memory as soon as the file has said its size, and
+  // before the voxels are allocated, so that a header declaring far more
+  // voxels than the memory holds is refused with the estimate, not ended by
+  // the allocation.
+  const auto check_memory = [&](long long count, const std::string& shape) {
+    const double voxels_made = static_cast<double>(count) * (mirror ? 2 : 1);
+    const double need = kImageSetupBytes * voxels_made;
+    AvailableMemory available = memory_available();
+    if (scene.memory_limit_bytes > 0) available = {scene.memory_limit_bytes, "Run/Memory Limit"};
+    if (need > available.bytes) {
+      std::ostringstream msg;
+      msg.precision(3);
+      msg << "Image/File '" << file << "' (" << shape << "): making its walls takes about " << need / 1e9
+          << " GB for a moment (" << kImageSetupBytes << " bytes a voxel, in every process), and " << available.bytes / 1e9
+          << " GB are available (" << available.source << "). Crop or coarsen the image, or run where there is "
+          << "more memory";
+      throw ParameterError(msg.str());
+    }
+  };
   VoxelImage voxels;
   try {
-    voxels = read_image(file, raw);
+    voxels = read_image(file, raw, check_memory);
   } catch (const std::invalid_argument& e) {
     throw ParameterError(e.what());
   }
   const std::string named = "Image/File '" + file + "' (" + shape_text(voxels) + ")";
-  // Its walls are made next (the distance field, about kImageSetupBytes a
-  // voxel for a moment, mirrored voxels counted twice): said now, not
-  // found out by running out of memory.
-  {
-    const double voxels_made = static_cast<double>(voxels.count()) * (mirror ? 2 : 1);
-    const double need = kImageSetupBytes * voxels_made;
-    const double available = scene.memory_limit_bytes > 0 ? scene.memory_limit_bytes : memory_available_bytes();
-    if (need > available) {
-      std::ostringstream msg;
-      msg.precision(3);
-      msg << named << ": making its walls takes about " << need / 1e9 << " GB for a moment (" << kImageSetupBytes
-          << " bytes a voxel, in every process), and " << available / 1e9 << " GB are available ("
-          << (scene.memory_limit_bytes > 0 ? "Run/Memory Limit" : "MemAvailable in /proc/meminfo")
-          << "). Crop or coarsen the image, or run where there is more memory";
-      throw ParameterError(msg.str());
-    }
-  }
   if (!is_raw && !raw.shape.empty()) {
     std::vector<long long> read_shape(voxels.shape.begin(), voxels.shape.begin() + voxels.dimension);
     if (read_shape != raw.shape)
