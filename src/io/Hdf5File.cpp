@@ -1,6 +1,8 @@
 #include "io/Hdf5File.hpp"
 
+#include <fcntl.h>
 #include <sys/statvfs.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -337,10 +339,28 @@ void write_hdf5_atomically(const std::string& path, MPI_Comm comm, const std::fu
     throw;
   }
   MPI_Barrier(comm);
+  // On the disk before it takes the final name (a power loss then leaves the
+  // previous file or this one, never an empty one under the name), and the
+  // rename after it.
   int failed = 0;
-  if (rank == 0 && std::rename(temporary.c_str(), path.c_str()) != 0) failed = errno;
+  std::string step;
+  if (rank == 0) {
+    const int fd = ::open(temporary.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || ::fsync(fd) != 0) failed = errno, step = "cannot sync " + temporary + " to the disk";
+    if (fd >= 0) ::close(fd);
+    if (!failed && std::rename(temporary.c_str(), path.c_str()) != 0)
+      failed = errno, step = "cannot rename " + temporary + " to " + path;
+    if (failed) std::remove(temporary.c_str());
+    else sync_directory_of(path);
+  }
   MPI_Bcast(&failed, 1, MPI_INT, 0, comm);
-  if (failed) throw std::runtime_error("cannot rename " + temporary + " to " + path + ": " + std::strerror(failed));
+  if (failed) {
+    int length = static_cast<int>(step.size());
+    MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+    step.resize(static_cast<size_t>(length));
+    MPI_Bcast(step.data(), length, MPI_CHAR, 0, comm);
+    throw std::runtime_error(step + ": " + std::strerror(failed));
+  }
 }
 
 }  // namespace poresph

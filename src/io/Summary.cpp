@@ -2,6 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -53,6 +56,15 @@ std::string JsonObject::str() const {
   return value_->dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
+void sync_directory_of(const std::string& path) {
+  std::string dir = path.substr(0, path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/'));
+  if (dir.empty()) dir = path.rfind('/', 0) == 0 ? "/" : ".";
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);  // best effort: some file systems cannot sync a directory, and the file is in place already
+  ::close(fd);
+}
+
 void write_file_atomically(const std::string& path, const std::string& text) {
   const std::string temporary = path + ".tmp";
   auto fail = [&](const std::string& what, int error) {
@@ -62,10 +74,14 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   errno = 0;
   std::FILE* file = std::fopen(temporary.c_str(), "wb");
   if (!file) fail("cannot create " + temporary, errno);
-  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size() && std::fflush(file) == 0;
+  // On the disk before it takes the final name: after a power loss the name
+  // holds the old file or the new one, never an empty or partial one.
+  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size() && std::fflush(file) == 0 &&
+                       ::fsync(fileno(file)) == 0;
   const int write_error = errno;
   if (std::fclose(file) != 0 || !written) fail("writing " + temporary, written ? errno : write_error);
   if (std::rename(temporary.c_str(), path.c_str()) != 0) fail("renaming " + temporary, errno);
+  sync_directory_of(path);  // and the rename itself
 }
 
 void write_summary_file(const std::string& path, const std::string& text) {

@@ -37,10 +37,15 @@ class JsonObject {
   std::unique_ptr<nlohmann::ordered_json> value_;
 };
 
-// Writes text to path through path + ".tmp" and a rename. On failure (a full
-// disk, say) throws with the reason, removes the temporary file, and leaves
-// an earlier file under `path` as it was.
+// Writes text to path through path + ".tmp", synced to the disk, and a
+// rename, then syncs the directory. On failure (a full disk, say) throws
+// with the reason, removes the temporary file, and leaves an earlier file
+// under `path` as it was.
 void write_file_atomically(const std::string& path, const std::string& text);
+
+// fsync(2) of the directory holding `path`, so that a rename into it
+// survives a power loss; best effort (some file systems cannot).
+void sync_directory_of(const std::string& path);
 
 // summary.json, through write_file_atomically. If it cannot be written, an
 // earlier summary.json there is removed before the error is thrown: a
