@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Hostile input and faults, one class of issue 18 per call (docs/reliability.md):
+"""Hostile input and faults, one class of failure per call (docs/reliability.md):
 
     reliability.py CLASS POREESPH WORK_DIR MPIEXEC
 
@@ -475,33 +475,6 @@ def class_7_messages():
     case("the run's output options cannot be given twice", [TINY, "--output", out, "--output", out + "2"], 2,
          r"--output given twice", both(absent(out), absent(out + "2")))
 
-    # SIGTERM during set-up (a lattice of 4 million points takes seconds to fill): not lost.
-    out = fresh("sigterm-setup")
-    name = "SIGTERM during set-up stops the run with 143 and writes nothing"
-    try:
-        proc = subprocess.Popen([POREESPH, TINY, "--output", out, "--set", "Discretization/Particle Spacing=0.0005",
-                                 "--set", "Run/Max Steps=5"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                text=True, env=ENV)
-        # Once its handler is installed (SigCgt in /proc), so that the signal meets the set-up, not MPI_Init.
-        for _ in range(200):
-            with open(f"/proc/{proc.pid}/status") as status:
-                caught = int(next(l for l in status if l.startswith("SigCgt:")).split()[1], 16)
-            if caught & (1 << (signal.SIGTERM - 1)):
-                break
-            time.sleep(0.05)
-        time.sleep(0.2)
-        proc.send_signal(signal.SIGTERM)
-        output = proc.communicate(timeout=600)[0]
-        problems = []
-        if proc.returncode != 143:
-            problems.append(f"exit status {proc.returncode}")
-        if not re.search(r"stopped by SIGTERM during set-up.*nothing was written", output):
-            problems.append("no message")
-        problems += [p for p in [absent(out)()] if p]
-    except Exception as e:
-        problems, output = [str(e)], ""
-    report(name, problems, output)
-
     # setup_seconds counts the whole set-up (reading, checks, lattice), not the last part of it.
     out = fresh("setup-seconds")
     start = time.monotonic()
@@ -560,10 +533,817 @@ def class_9_tests_stay():
                [] if done.returncode == status else [f"status {done.returncode}"])
 
 
+# ---------------------------------------------------------------------------------------------------
+# Issue 30: nothing lost, nothing misreported.
+
+GRAIN = "Grains/Inline={0.5, 0.5, 0.25}"
+# Two grains one above the other: flow along y finds open lanes, along x it squeezes between them, so
+# the y axis of a tensor run takes longer to settle than the x axis (a run cut by Run/Max Steps in its
+# last stage only, for the restart cases).
+TWO_GRAINS = "Grains/Inline={0.5, 0.25, 0.18, 0.5, 0.75, 0.18}"
+STEADY = ["Permeability/Steady Tolerance=1e-3", "Run/End Time=1000"]
+
+
+def sets(*settings):
+    args = []
+    for setting in settings:
+        args += ["--set", setting]
+    return args
+
+
+def names(directory):
+    return sorted(os.listdir(directory)) if os.path.isdir(directory) else None
+
+
+def frames_consistent(out):
+    """Every .xmf names exactly the field files of its stage that are there: none missing, none stale."""
+    import xml.etree.ElementTree as ElementTree
+    problems = []
+    present = {f for f in os.listdir(out) if f.startswith("fields") and f.endswith(".h5")}
+    described = set()
+    for xmf in sorted(f for f in os.listdir(out) if f.endswith(".xmf")):
+        suffix = xmf[len("particles"):-4] if xmf.startswith("particles") else xmf[len("grid"):-4]
+        files = set()
+        for item in ElementTree.parse(os.path.join(out, xmf)).iter("DataItem"):
+            if item.get("Format") == "HDF":
+                files.add(item.text.split(":")[0])
+        missing = sorted(f for f in files if f not in present)
+        if missing:
+            problems.append(f"{xmf} names frames that are not there: {missing}")
+        own = {f for f in present if re.fullmatch(rf"fields{re.escape(suffix)}_[0-9]+\.h5", f)}
+        if own - files:
+            problems.append(f"{xmf} leaves out frames that are there: {sorted(own - files)}")
+        described |= files
+    if present - described:
+        problems.append(f"frames no description names: {sorted(present - described)}")
+    return "; ".join(problems)
+
+
+def comparable(s):
+    """A summary without what may differ between a run in one go and one continued: wall times, restarts."""
+    skip = {"wall_seconds", "setup_seconds", "particle_steps_per_second", "restarted_from_step"}
+    if isinstance(s, dict):
+        return {k: comparable(v) for k, v in s.items() if k not in skip}
+    if isinstance(s, list):
+        return [comparable(v) for v in s]
+    return s
+
+
+def same_summary(out, reference):
+    """'' if out's summary.json equals reference's key for key (wall times and restarts aside)."""
+    ours, theirs = comparable(summary(out)), comparable(summary(reference))
+    differing = [k for k in sorted(set(ours) | set(theirs)) if ours.get(k) != theirs.get(k)]
+    return "" if not differing else "summary.json differs from the run in one go in " + ", ".join(
+        f"{k} ({ours.get(k)!r} against {theirs.get(k)!r})" for k in differing)
+
+
+def last_history_step(out, suffix=""):
+    with open(os.path.join(out, f"permeability_history{suffix}.csv")) as f:
+        return int(list(f)[-1].split(",")[0])
+
+
+def start(args, **options):
+    return subprocess.Popen([POREESPH] + args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=ENV,
+                            **options)
+
+
+def wait_for(condition, timeout=120, poll=0.002):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if condition():
+            return True
+        time.sleep(poll)
+    return False
+
+
+def handler_installed(pid, signal_number):
+    """Whether the process catches the signal (SigCgt in /proc): it is past MPI_Init."""
+    try:
+        with open(f"/proc/{pid}/status") as status:
+            caught = int(next(l for l in status if l.startswith("SigCgt:")).split()[1], 16)
+        return bool(caught & (1 << (signal_number - 1)))
+    except (OSError, StopIteration):
+        return False
+
+
+def history_rows(out, suffix=""):
+    try:
+        with open(os.path.join(out, f"permeability_history{suffix}.csv")) as f:
+            return sum(1 for _ in f) - 1
+    except OSError:
+        return 0
+
+
+def checkpoint_step(out):
+    with h5(os.path.join(out, "checkpoint.h5")) as f:
+        return int(f.attrs["step"])
+
+
+def class_10_run_files():
+    """Every file of a multi-part run (ladder levels, half force, tensor axes with levels) is known as run output."""
+    plain = fresh("plain")
+    good_run(plain, "Output/Field Interval=0.5")
+    plain_files = names(plain)
+    fields = ["Output/Field Interval=0.5", "Output/Grid Points={8, 8}", "Output/Final Particles CSV=true",
+              "Run/Max Steps=20", "Run/Progress=never"]
+    for label, settings in [
+        ("a 3-level ladder with the linearity check", ["Convergence/Levels=3", "Permeability/Linearity Check=true"]),
+        ("a tensor run with the linearity check", ["Permeability/Tensor=true", "Permeability/Linearity Check=true"]),
+        ("a tensor run of a 3-level ladder", ["Permeability/Tensor=true", "Convergence/Levels=3"]),
+        ("a tensor run of a 2-level ladder with the linearity check",
+         ["Permeability/Tensor=true", "Convergence/Levels=2", "Permeability/Linearity Check=true"])]:
+        out = fresh("multi-" + re.sub(r"[^a-z0-9]+", "-", label))
+        status, output = run([TINY, "--output", out] + sets(GRAIN, *fields, *settings))
+        if status != 0:
+            report(f"{label}: the run", [f"exit status {status}"], output)
+            continue
+        written = names(out)
+        write(os.path.join(out, "notes.txt"), "the user's own file\n")
+        case(f"{label}: a second run without --overwrite is refused, counting all {len(written)} files",
+             [TINY, "--output", out, "--set", "Run/Max Steps=5"], 2,
+             rf"holds the results of another run \(.*\({len(written)} files\)\)", unchanged(out))
+        def only_the_new_run():
+            left = sorted(set(names(out)) - set(plain_files) - {"notes.txt"})
+            problems = [f"{len(left)} files of the first run are left: {left}"] if left else []
+            if "notes.txt" not in names(out):
+                problems.append("the user's notes.txt was removed")
+            return "; ".join(problems + [p for p in [frames_consistent(out)] if p])
+        case(f"{label}: --overwrite with a plain run leaves none of its files",
+             [TINY, "--output", out, "--overwrite", "--set", "Output/Field Interval=0.5", "--set", "Run/Max Steps=20"],
+             0, r"summary in", only_the_new_run)
+
+    # A restart in place from a checkpoint of an earlier stage removes what the stages after it had
+    # written: here the half-force stage's files, written after the last checkpoint (of the full force:
+    # no checkpoint falls in the shorter half-force stage), and the run continued with other frames.
+    out = fresh("later-stages")
+    status, output = run([TINY, "--output", out] + sets(
+        GRAIN, *STEADY, "Permeability/Linearity Check=true", "Output/Checkpoint Interval=500",
+        "Output/Final Checkpoint=false", "Output/Field Interval=2"))
+    stage_steps = [last_history_step(out), last_history_step(out, "_half_force")] if status == 0 else []
+    if status != 0 or not (stage_steps[1] < 500 <= stage_steps[0]):
+        report("later stages: the run to continue", [f"exit {status}, stages of {stage_steps} steps"], output)
+    else:
+        half_before = sorted(f for f in names(out) if f.startswith("fields_half_force_"))
+        def later_stage_rewritten():
+            # The continued stage writes its frames at the new interval; one of the first attempt's left
+            # beside them is a frame its description leaves out.
+            problems = [p for p in [frames_consistent(out)] if p]
+            half = sorted(f for f in names(out) if f.startswith("fields_half_force_"))
+            if half == half_before:
+                problems.append("the half-force stage's frames are the first attempt's")
+            return "; ".join(problems)
+        case(f"a restart in place from an earlier stage's checkpoint removes the later stages' files "
+             f"({len(half_before)} frames)",
+             [TINY, "--output", out, "--restart", os.path.join(out, "checkpoint.h5")] + sets(
+                 GRAIN, *STEADY, "Permeability/Linearity Check=true", "Output/Field Interval=1.3"), 0, r"summary in",
+             later_stage_rewritten)
+
+
+def class_11_claim():
+    """One run per output directory: runs started together into it are refused, and touch nothing."""
+    reference = fresh("reference")
+    long_run = sets("Discretization/Particle Spacing=0.01", "Run/Max Steps=100", "Run/Progress=never")
+    status, output = run([TINY, "--output", reference] + long_run)
+    assert status == 0, output
+    expected = names(reference)
+    for label, existing in [("a new directory", False), ("an empty directory made beforehand", True)]:
+        for repeat in range(3):
+            out = fresh(f"together-{existing}-{repeat}")
+            if existing:
+                os.makedirs(out)
+            runs = [start([TINY, "--output", out] + long_run) for _ in range(8)]
+            outputs = [r.communicate(timeout=600)[0] for r in runs]
+            statuses = [r.returncode for r in runs]
+            problems = []
+            if sorted(statuses) != [0] + [2] * 7:
+                problems.append(f"exit statuses {statuses}")
+            refused = [o for r, o in zip(runs, outputs) if r.returncode == 2]
+            unclear = [o for o in refused if not re.search(r"is in use by another run \(process [0-9]+ on .*since|"
+                                                           r"holds the results of another run", o)]
+            if unclear:
+                problems.append(f"{len(unclear)} refusals do not say the directory is taken")
+            if names(out) != expected:
+                problems.append(f"the directory holds {names(out)}, not one run's {expected}")
+            elif summary(out)["steps"] != 100 or frames_consistent(out):
+                problems.append("its summary is not a whole run's")
+            report(f"8 runs started together into {label} (try {repeat + 1}): one runs, 7 are refused with exit 2",
+                   problems, "\n".join(outputs))
+
+    # A run into a directory in use, with --overwrite or as a restart in place, is refused; the run goes on.
+    out = fresh("in-use")
+    first = start([TINY, "--output", out] + sets("Discretization/Particle Spacing=0.005", "Run/Max Steps=400",
+                                                 "Run/Progress=never", "Output/Checkpoint Interval=20"))
+    if not wait_for(lambda: os.path.exists(os.path.join(out, "checkpoint.h5")), timeout=120):
+        report("a run into a directory in use: the first run", ["did not start"], first.communicate()[0])
+        return
+    case("a run with --overwrite into a directory in use is refused, naming the run that holds it",
+         [TINY, "--output", out, "--overwrite", "--set", "Run/Max Steps=5"], 2,
+         r"is in use by another run \(process [0-9]+ on .*\); wait until it has ended", None)
+    case("a restart in place while the run goes on is refused", [TINY, "--output", out, "--restart",
+         os.path.join(out, "checkpoint.h5"), "--set", "Discretization/Particle Spacing=0.005"], 2,
+         r"is in use by another run", None)
+    first_output = first.communicate(timeout=600)[0]
+    report("the run that held the directory ended as it would have",
+           [] if first.returncode == 0 and summary(out)["steps"] == 400 and
+           not os.path.exists(os.path.join(out, ".poresph.lock")) else [f"exit {first.returncode}"], first_output)
+
+    # The lock is the system's: a lock file left by a run that was killed holds nothing.
+    out = fresh("stale-lock")
+    os.makedirs(out)
+    write(os.path.join(out, ".poresph.lock"), "process 1 on elsewhere, since long ago\n")
+    case("a lock file left by a killed run does not hold the directory", [TINY, "--output", out, "--set",
+         "Run/Max Steps=5"], 0, r"summary in",
+         lambda: "" if not os.path.exists(os.path.join(out, ".poresph.lock")) else "the lock file is still there")
+    out = fresh("killed")
+    victim = start([TINY, "--output", out] + sets("Discretization/Particle Spacing=0.005", "Run/Max Steps=100000",
+                                                  "Output/Checkpoint Interval=20"))
+    wait_for(lambda: os.path.exists(os.path.join(out, "checkpoint.h5")), timeout=120)
+    victim.kill()
+    victim.communicate()
+    step = checkpoint_step(out)
+    case("after a run killed with SIGKILL, whose lock file stays, a restart in place goes on",
+         [TINY, "--output", out, "--restart", os.path.join(out, "checkpoint.h5")] +
+         sets("Discretization/Particle Spacing=0.005", f"Run/Max Steps={step + 10}"), 0, r"summary in",
+         lambda: "" if summary(out).get("restarted_from_step") == step and
+         not os.path.exists(os.path.join(out, ".poresph.lock")) else "not continued, or the lock file left")
+
+    # A run refused after its claim (here: more processes than the cell can be split for, found when the
+    # run decomposes it) gives the directory back as it found it: not there.
+    out = fresh("refused-after-claim")
+    too_many = sets("Discretization/Particle Spacing=0.25", "Run/Max Steps=2")
+    case("a run refused during its set-up leaves no directory behind", [TINY, "--output", out] + too_many, 2,
+         r"cannot be split into 5 sub-domains", absent(out), mpi=5)
+    deep = os.path.join(fresh("refused-deep"), "a", "b")
+    case("... nor the parent directories the claim made for it", [TINY, "--output", deep] + too_many, 2,
+         r"cannot be split into 5 sub-domains", absent(os.path.dirname(os.path.dirname(deep))), mpi=5)
+    existing = fresh("refused-existing")
+    os.makedirs(existing)
+    write(os.path.join(existing, "notes.txt"), "the user's own file\n")
+    case("... and in a directory that was there, it leaves what was there", [TINY, "--output", existing] + too_many, 2,
+         r"cannot be split into 5 sub-domains", unchanged(existing), mpi=5)
+
+
+def class_12_restart_no_step_left():
+    """A restart with no step left keeps its frames' descriptions to the frames that are there."""
+    # A frame every 25 steps (dt = 0.03125 s) falls on the checkpoint's step, so the run continued writes
+    # no frame of its own that would rewrite the descriptions; every 16, it does.
+    for label, settings, suffix in [
+        ("a run", ["Output/Field Interval=0.78125"], ""),
+        ("a run with a frame due after the checkpoint", ["Output/Field Interval=0.5"], ""),
+        ("a run with a grid", ["Output/Field Interval=0.78125", "Output/Grid Points={8, 8}"], ""),
+        ("a tensor run's second axis", ["Output/Field Interval=0.78125", "Permeability/Tensor=true"], "_y")]:
+        common = [GRAIN] + settings
+        # Killed between its last frame and its last checkpoint: frames up to step 130, checkpoint at 100.
+        out = fresh("no-step-" + re.sub(r"[^a-z0-9]+", "-", label))
+        status, output = run([TINY, "--output", out] + sets(*common, "Run/Max Steps=130", "Output/Checkpoint Interval=50",
+                                                            "Output/Final Checkpoint=false"))
+        if status != 0:
+            report(f"{label}: the run to continue", [f"exit {status}"], output)
+            continue
+        stale = sorted(f for f in names(out) if re.fullmatch(rf"fields{suffix}_[0-9]+\.h5", f) and int(f[-12:-3]) > 100)
+        # What a run to step 100 in one go leaves.
+        whole = fresh("no-step-whole-" + re.sub(r"[^a-z0-9]+", "-", label))
+        run([TINY, "--output", whole] + sets(*common, "Run/Max Steps=100"))
+        def as_in_one_go():
+            # The stage continued (a tensor run's x axis ran to its own end, 130, before y began) has
+            # the files and descriptions of a run to step 100 in one go.
+            problems = [p for p in [frames_consistent(out)] if p]
+            stage = lambda files: sorted(f for f in files if suffix in f and f.endswith((".xmf", ".h5")))
+            for xmf in [f for f in stage(names(whole)) if f.endswith(".xmf")]:
+                if open(os.path.join(out, xmf)).read() != open(os.path.join(whole, xmf)).read():
+                    problems.append(f"{xmf} differs from the run to step 100 in one go")
+            if stage(names(out)) != stage(names(whole)):
+                problems.append(f"files {sorted(set(stage(names(out))) ^ set(stage(names(whole))))} differ")
+            return "; ".join(problems)
+        case(f"{label}: continued with no step left after its checkpoint ({len(stale)} frames past it), "
+             "its descriptions name only the frames there",
+             [TINY, "--output", out, "--restart", os.path.join(out, "checkpoint.h5")] + sets(*common, "Run/Max Steps=100"),
+             0, r"summary in", as_in_one_go)
+
+
+def signal_case(label, args, signal_number, when, out, continue_args, expect_step=None):
+    """Runs poresph ARGS, sends the signal once `when(proc)` holds, and checks exit status 128 + signal,
+    the message, summary.json (stopped_by signal) and a checkpoint that a restart continues from
+    (continue_args(step): the arguments of the continued run, the checkpoint's step given)."""
+    problems, output = [], ""
+    try:
+        proc = start(args)
+        if not wait_for(lambda: when(proc) or proc.poll() is not None, timeout=300, poll=0.001):
+            problems.append("the moment to send the signal never came")
+        proc.send_signal(signal_number)
+        output = proc.communicate(timeout=600)[0]
+        name = signal.Signals(signal_number).name
+        if proc.returncode != 128 + signal_number:
+            problems.append(f"exit status {proc.returncode}, expected {128 + signal_number}")
+        elif not re.search(rf"stopped by {name} at step [0-9]+, t = .*; the state is in .*checkpoint.h5", output):
+            problems.append("no message naming the signal, the step and the checkpoint")
+        else:
+            s = summary(out)
+            step = checkpoint_step(out)
+            if s["stopped_by"] != "signal" or s["steps"] < step:
+                problems.append(f"summary.json says {s['stopped_by']}, {s['steps']} steps")
+            if expect_step is not None and not expect_step(step):
+                problems.append(f"the checkpoint is of step {step}")
+            if os.path.exists(os.path.join(out, ".poresph.lock")) or [f for f in names(out) if f.endswith(".tmp")]:
+                problems.append(f"left behind: {names(out)}")
+            status, more = run(continue_args(step) + ["--restart", os.path.join(out, "checkpoint.h5")])
+            if status != 0 or summary(out).get("restarted_from_step") != step or summary(out)["steps"] <= step:
+                problems.append(f"the checkpoint does not continue (exit {status})")
+                output += more
+    except Exception as e:
+        problems.append(f"{type(e).__name__}: {e}")
+    report(label, problems, output)
+
+
+def class_13_signals():
+    """SIGHUP, SIGPIPE, SIGINT, SIGTERM at set-up, in the loop and during a checkpoint write: a summary and a
+    usable checkpoint each, and 128 + the signal as exit status (129, 141, 130, 143)."""
+    signals = [signal.SIGHUP, signal.SIGPIPE, signal.SIGINT, signal.SIGTERM]
+    for number in signals:
+        name = signal.Signals(number).name
+        # At set-up: once the handler is there, the set-up of a 250,000-point lattice has a while to go.
+        out = fresh(f"setup-{name}")
+        args = [TINY, "--output", out] + sets("Discretization/Particle Spacing=0.002", "Run/Max Steps=5",
+                                              "Run/Progress=never")
+        signal_case(f"{name} during set-up: checkpoint of step 0 and summary, exit {128 + number}", args, number,
+                    lambda p, n=number: handler_installed(p.pid, n) and time.sleep(0.05) is None, out,
+                    lambda step, o=out: [TINY, "--output", o] + sets("Discretization/Particle Spacing=0.002",
+                                                                      f"Run/Max Steps={step + 2}"),
+                    expect_step=lambda step: step == 0)
+        # In the loop: once the history has rows.
+        out = fresh(f"loop-{name}")
+        args = [TINY, "--output", out] + sets("Discretization/Particle Spacing=0.01", "Run/Max Steps=1000000",
+                                              "Run/End Time=1e6", "Output/Final Checkpoint=false")
+        signal_case(f"{name} in the time loop: checkpoint and summary, exit {128 + number}", args, number,
+                    lambda p, o=out: history_rows(o) >= 3, out,
+                    lambda step, o=out: [TINY, "--output", o] + sets("Discretization/Particle Spacing=0.01",
+                                                                      "Run/End Time=1e6", f"Run/Max Steps={step + 10}"),
+                    expect_step=lambda step: step > 0 and step % 10 == 0)
+        # During a checkpoint write: while checkpoint.h5.tmp is there.
+        out = fresh(f"checkpoint-{name}")
+        settings = ["Discretization/Particle Spacing=0.002", "Run/End Time=1e6", "Output/Checkpoint Interval=10"]
+        args = [TINY, "--output", out] + sets(*settings, "Run/Max Steps=1000000")
+        signal_case(f"{name} during a checkpoint write: checkpoint and summary, exit {128 + number}", args, number,
+                    lambda p, o=out: os.path.exists(os.path.join(o, "checkpoint.h5.tmp")), out,
+                    lambda step, o=out: [TINY, "--output", o] + sets(*settings, f"Run/Max Steps={step + 10}"),
+                    expect_step=lambda step: step > 0 and step % 10 == 0)
+
+    # SIGPIPE as it comes: the reader of the output goes away (`poresph ... | head -1`). The random pack's
+    # note is the first line; the progress line after it finds no reader.
+    out = fresh("pipe")
+    pack = sets("Grains/Random Pack/Porosity=0.6", "Grains/Random Pack/Min Radius=0.1",
+                "Grains/Random Pack/Max Radius=0.1", "Discretization/Particle Spacing=0.01")
+    args = [TINY, "--output", out] + pack + sets("Run/Progress=always", "Run/End Time=1e6", "Run/Max Steps=1000000")
+    problems, output = [], ""
+    try:
+        proc = subprocess.Popen([POREESPH] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=ENV)
+        first_line = proc.stdout.readline().decode(errors="replace")
+        proc.stdout.close()  # as head -1 does once it has its line
+        output = first_line + proc.communicate(timeout=600)[1].decode(errors="replace")
+        if proc.returncode != 128 + signal.SIGPIPE:
+            problems.append(f"exit status {proc.returncode}, expected 141")
+        elif summary(out)["stopped_by"] != "signal" or not re.search(r"stopped by SIGPIPE at step", output):
+            problems.append("no summary or message of the stop")
+        else:
+            step = checkpoint_step(out)
+            status, more = run([TINY, "--output", out, "--restart", os.path.join(out, "checkpoint.h5")] + pack +
+                               sets("Run/End Time=1e6", f"Run/Max Steps={step + 10}"))
+            if status != 0:
+                problems.append(f"the checkpoint does not continue (exit {status})")
+                output += more
+    except Exception as e:
+        problems.append(f"{type(e).__name__}: {e}")
+    report("the reader of the output goes away (| head -1): SIGPIPE stops the run with a checkpoint, exit 141",
+           problems, output)
+    # A run that has finished when its last line meets a closed pipe has finished: exit 0.
+    for label, args in [("a run", [TINY, "--output", fresh("pipe-end"), "--set", "Run/Max Steps=20"]),
+                        ("--help-parameters", ["--help-parameters"])]:
+        proc = subprocess.Popen([POREESPH] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=ENV)
+        proc.stdout.close()
+        errors = proc.communicate(timeout=600)[1].decode(errors="replace")
+        report(f"{label} whose output has no reader left ends with exit 0, not 141",
+               [] if proc.returncode == 0 else [f"exit status {proc.returncode}"], errors)
+
+
+def class_14_continued_runs():
+    """A run interrupted (by Run/Max Steps, by a signal) and continued reports what the run in one go
+    reports: summary.json equal key for key, wall times and restarts aside."""
+    scenes = [
+        ("a single run", [GRAIN, *STEADY, "Discretization/Particle Spacing=0.025"], lambda out: [last_history_step(out)]),
+        # To End Time: the finer level takes four times the steps (dt goes with the spacing squared).
+        ("a ladder", [GRAIN, "Run/End Time=10", "Convergence/Levels=2", "Discretization/Particle Spacing=0.025"],
+         lambda out: [level["steps"] for level in summary(out)["convergence"]]),
+        ("a tensor run", [TWO_GRAINS, *STEADY, "Permeability/Tensor=true", "Discretization/Particle Spacing=0.025"],
+         lambda out: [last_history_step(out, "_x"), last_history_step(out, "_y")]),
+        ("a linearity check", [GRAIN, *STEADY, "Permeability/Linearity Check=true",
+                               "Discretization/Particle Spacing=0.025"],
+         lambda out: [last_history_step(out), last_history_step(out, "_half_force")]),
+    ]
+    for label, settings, stage_steps in scenes:
+        key = re.sub(r"[^a-z0-9]+", "-", label)
+        whole = fresh("whole-" + key)
+        status, output = run([TINY, "--output", whole] + sets(*settings, "Output/Field Interval=3"))
+        if status != 0:
+            report(f"{label}: the run in one go", [f"exit {status}"], output)
+            continue
+        steps = stage_steps(whole)
+        # Run/Max Steps applies to each stage: it cuts a run in its last stage alone when every stage
+        # before it ended sooner (a continued run goes on with the stage of its checkpoint).
+        if len(steps) == 1 or max(steps[:-1]) < steps[-1] - 20:
+            cut = (max(steps[:-1], default=0) + steps[-1]) // 2
+            out = fresh("max-steps-" + key)
+            status, output = run([TINY, "--output", out] + sets(*settings, "Output/Field Interval=3",
+                                                                f"Run/Max Steps={cut}"))
+            first = summary(out) if status == 0 else {}
+            case(f"{label} stopped by Run/Max Steps at {cut} (stages in one go: {steps}) and continued",
+                 [TINY, "--output", out, "--restart", os.path.join(out, "checkpoint.h5")] +
+                 sets(*settings, "Output/Field Interval=3"), 0, r"summary in",
+                 lambda o=out, w=whole, f=first: "; ".join(p for p in [
+                     "" if f.get("stopped_by") == "max_steps" else f"the first part ended by {f.get('stopped_by')}",
+                     same_summary(o, w), frames_consistent(o)] if p))
+        else:
+            print(f"note   {label}: its last stage ends first ({steps}); Run/Max Steps cannot cut it alone")
+        # A signal, wherever it comes; the run continued from its checkpoint.
+        for number in (signal.SIGTERM, signal.SIGHUP):
+            out = fresh(f"signal-{number}-" + key)
+            problems, output = [], ""
+            proc = start([TINY, "--output", out] + sets(*settings, "Output/Field Interval=3", "Run/Progress=never"))
+            # Half way through the run in one go, as its history files count their rows.
+            rows = sum(history_rows(whole, f[len("permeability_history"):-4]) for f in names(whole)
+                       if f.startswith("permeability_history"))
+            wait_for(lambda: sum(history_rows(out, f[len("permeability_history"):-4]) for f in names(out) or []
+                                 if f.startswith("permeability_history")) >= rows // 2 or proc.poll() is not None,
+                     timeout=300, poll=0.001)
+            proc.send_signal(number)
+            output = proc.communicate(timeout=600)[0]
+            where = ""
+            if proc.returncode != 128 + number:
+                problems.append(f"exit status {proc.returncode}")
+            else:
+                stopped = re.search(r"stopped by SIG[A-Z]+ at step [0-9]+", output)
+                where = f" ({stopped.group(0)} of a stage)" if stopped else ""
+                status, more = run([TINY, "--output", out, "--restart", os.path.join(out, "checkpoint.h5")] +
+                                   sets(*settings, "Output/Field Interval=3"))
+                output += more
+                problems += [p for p in [f"exit status {status}" if status else "", same_summary(out, whole),
+                                         frames_consistent(out)] if p]
+            report(f"{label} stopped by {signal.Signals(number).name}{where} and continued", problems, output)
+
+
+def class_15_scene_requests():
+    """What a scene asks for must be what it gets: a force off the axes, a measurement without a force, a
+    parameter given twice, options that do nothing are refused with a message that says what to do."""
+    out = fresh("requests")
+    for force in ["{0.001, 0.001}", "{0.001, -0.0005}"]:
+        case(f"a body force {force} off the axes, without Permeability/Tensor, is refused",
+             [TINY, "--output", out] + sets(f"Fluid/Body Force={force}", GRAIN), 2,
+             r"Fluid/Body Force = \(.*\) does not lie along one axis.*Permeability/Tensor = true", absent(out))
+    case("... in 3D too", [TINY, "--output", out] + sets("Domain/Cell Size={1, 1, 1}",
+         "Fluid/Body Force={0.001, 0, 0.001}"), 2, r"does not lie along one axis", absent(out))
+    tensor = fresh("oblique-tensor")
+    case("the same force with Permeability/Tensor measures the tensor with its magnitude",
+         [TINY, "--output", tensor] + sets("Fluid/Body Force={0.001, 0.001}", GRAIN, "Permeability/Tensor=true",
+                                           "Run/Max Steps=20"), 0, r"summary in",
+         lambda: "" if set(summary(tensor)["permeability"]) == {"kxx", "kyx", "kxy", "kyy"} else "no tensor")
+    for settings, asked in [
+        (["Permeability/Tensor=true"], "Permeability/Tensor asks"),
+        (["Permeability/Steady Tolerance=0.01"], "Permeability/Steady Tolerance asks"),
+        (["Permeability/Linearity Check=true", "Convergence/Levels=2"],
+         "Permeability/Linearity Check and Convergence/Levels ask"),
+        (["Permeability/Steady Window=5"], "Permeability/Steady Window asks")]:
+        case(f"{', '.join(settings)} without a body force is refused",
+             [TINY, "--output", out] + sets("Fluid/Body Force={0, 0}", "Fluid/Velocity Scale=0.01", GRAIN, *settings), 2,
+             rf"{re.escape(asked)} for the permeability, which a body force measures, and Fluid/Body Force is zero",
+             absent(out))
+    case("Diagnostics/Profile Sample Times without a channel is refused",
+         [TINY, "--output", out] + sets("Diagnostics/Profile Sample Times={1}"), 2,
+         r"Profile Sample Times compares a channel's velocity profile .* no channel", absent(out))
+    case("Output/Grid Points without field files is refused", [TINY, "--output", out] + sets("Output/Grid Points={8, 8}"),
+         2, r"Output/Grid Points is given, but .*Output/Field Interval is 0", absent(out))
+    for first, second in [("Run/Max Steps=5", "Run/Max Steps=6"),
+                          ("Fluid/Kinematic Viscosity=0.01", "Fluid/Kinematic Viscosity=0.01"),
+                          ("Scene/Name=a", "Scene/Name=b")]:
+        case(f"--set {first.split('=')[0]} given twice is refused, as the XML refuses it",
+             [TINY, "--output", out, "--set", first, "--set", second], 2,
+             rf"--set {re.escape(first.split('=')[0])} is given twice \('{re.escape(first)}' and '{re.escape(second)}'\)",
+             absent(out))
+    case("--inject-nan given twice is refused", [TINY, "--output", out, "--inject-nan", "3", "--inject-nan", "4"], 2,
+         r"--inject-nan given twice", absent(out))
+
+
+def class_16_messages():
+    """Messages that say what to fix: no source paths of Teuchos, no suggestion of the very name typed."""
+    out = fresh("messages")
+    teuchos_noise = r"\.(cpp|hpp):[0-9]+|Throw number|Throw test"
+    def clean(output):
+        return "" if not re.search(teuchos_noise, output) else "Teuchos's source paths in the message"
+    for settings, message in [
+        (["Fluid/Kinematic Viscosity=-1"], r"Fluid/Kinematic Viscosity = -1 is out of range: it must be at least 0"),
+        (["Walls/Type=chanel"], r"Walls/Type: 'chanel' is not one of its values, 'none', 'channel'; did you mean 'channel'"),
+        (["Domain/Cell Size={1, -1}"], r"Domain/Cell Size: element 2 = -1 is out of range: it must be at least 0"),
+        (["Convergence/Levels=11"], r"Convergence/Levels = 11 is out of range: it must be between 1 and 10"),
+        (["Fluid/Density Variation=0.9"], r"Fluid/Density Variation = 0.9 is out of range: it must be between 1e-06 and 0.5")]:
+        try:
+            status, output = run([TINY, "--output", out] + sets(*settings))
+            problems = [p for p in [f"exit status {status}" if status != 2 else "",
+                                    "" if re.search(message, output) else f"output does not match /{message}/",
+                                    clean(output), absent(out)()] if p]
+        except Exception as e:
+            problems, output = [str(e)], ""
+        report(f"{settings[0]}: the range in the scene's terms", problems, output)
+    tiny = open(TINY).read()
+    base = os.path.dirname(out)
+    for label, text, message in [
+        ("a value where a group is expected",
+         tiny.replace('<ParameterList name="Run">', '<Parameter name="Permeability" type="double" value="1"/>'
+                      '<ParameterList name="Run">'),
+         r"Permeability is a group of parameters, not a value: write it as <ParameterList name=\"Permeability\">"),
+        ("a group where a value is expected",
+         tiny.replace('<Parameter name="Kinematic Viscosity" type="double" value="0.01"/>',
+                      '<ParameterList name="Kinematic Viscosity"><Parameter name="Value" type="double" value="0.01"/>'
+                      '</ParameterList>'),
+         r"Fluid/Kinematic Viscosity is a parameter, not a group of them: write it as <Parameter name=\"Kinematic "
+         r"Viscosity\" type=\"double\""),
+        ("XML that is not well-formed", tiny.replace("</ParameterList>\n</ParameterList>", "</ParameterList>\n"),
+         r"it is not well-formed XML: XML parse error")]:
+        scene = write(os.path.join(base, re.sub(r"[^a-z]+", "-", label) + ".xml"), text)
+        status, output = run([scene, "--output", out])
+        problems = [p for p in [f"exit status {status}" if status != 2 else "",
+                                "" if re.search(message, output) else f"output does not match /{message}/",
+                                clean(output), "it suggests the name typed" if "did you mean" in output else "",
+                                absent(out)()] if p]
+        report(f"{label}: said as such", problems, output)
+    for setting, message in [("Fluid=1", r"--set Fluid: 'Fluid' is a group of parameters, not a value"),
+                             ("Fluid/Density/Value=1", r"--set Fluid/Density/Value: 'Density' is a parameter, not a group")]:
+        case(f"--set {setting}: said as such", [TINY, "--output", out, "--set", setting], 2, message, absent(out))
+    case("a periodic cell narrower than the kernel's reach names the spacing that fits",
+         [TINY, "--output", out, "--set", "Discretization/Particle Spacing=0.5"], 2,
+         r"Domain/Cell Size\[0\] = 1 is narrower than the kernel's reach at spacing 0.5.*at most 0.3333", absent(out))
+    for ranks, most in [(5, 4), (7, 6)]:
+        case(f"{ranks} processes for a 4 x 4 lattice: refused, suggesting {most}",
+             [TINY, "--output", out, "--set", "Discretization/Particle Spacing=0.25", "--set", "Run/Max Steps=2"], 2,
+             rf"cannot be split into {ranks} sub-domains.*Run on at most {most} processes \(mpiexec -n {most}\)",
+             absent(out), mpi=ranks)
+
+
+def expat_parses(path):
+    import xml.parsers.expat
+    try:
+        xml.parsers.expat.ParserCreate().Parse(open(path, "rb").read(), True)
+        return ""
+    except Exception as e:
+        return f"{os.path.basename(path)} does not parse: {e}"
+
+
+def class_17_names_and_encodings():
+    """Names in any language reach every file as UTF-8; files in other encodings are named as such."""
+    tiny = open(TINY).read()
+    base = os.path.dirname(fresh("names"))
+    def scene_named(label, value, encoding="utf-8", prefix=b""):
+        text = tiny.replace('value="tiny"', f'value="{value}"')
+        return write_bytes(os.path.join(base, label + ".xml"), prefix + text.encode(encoding))
+    for label, value, expected in [
+        ("decimal-reference", "caf&#233;", "café"), ("hex-reference", "caf&#xE9;", "café"),
+        ("beyond-latin-1", "&#8364; &#x1F600;", "€ 😀"), ("utf-8", "Darcy–Forchheimer ø", "Darcy–Forchheimer ø"),
+        ("markup", "a &lt;b&gt; &amp; &quot;c&quot;", 'a <b> & "c"')]:
+        out = os.path.join(base, "out-" + label)
+        shutil.rmtree(out, ignore_errors=True)
+        scene = scene_named(label, value)
+        def everywhere(out=out, expected=expected):
+            problems = []
+            if summary(out)["scene"] != expected:
+                problems.append(f"summary.json says {summary(out)['scene']!r}")
+            problems += [p for p in [expat_parses(os.path.join(out, "parameters_used.xml"))] if p]
+            again = out + "-again"
+            shutil.rmtree(again, ignore_errors=True)
+            status, output = run([os.path.join(out, "parameters_used.xml"), "--output", again, "--set",
+                                  "Run/Max Steps=2"])
+            if status != 0 or summary(again)["scene"] != expected:
+                problems.append(f"parameters_used.xml does not read back as the scene: {output}")
+            return "; ".join(problems)
+        case(f"Scene/Name {value!r} is {expected!r} in summary.json and parameters_used.xml, which parses",
+             [scene, "--output", out, "--set", "Run/Max Steps=2"], 0, r"summary in", everywhere)
+    out = os.path.join(base, "out-latin-1")
+    shutil.rmtree(out, ignore_errors=True)
+    declared = write_bytes(os.path.join(base, "declared-latin-1.xml"),
+                           b'<?xml version="1.0" encoding="ISO-8859-1"?>\n' +
+                           tiny.replace('value="tiny"', 'value="café"').encode("latin-1"))
+    case("a file declared ISO-8859-1 is read as such", [declared, "--output", out, "--set", "Run/Max Steps=2"], 0,
+         r"summary in", lambda: "" if summary(out)["scene"] == "café" else f"scene {summary(out)['scene']!r}")
+    out = os.path.join(base, "out-refused")
+    shutil.rmtree(out, ignore_errors=True)
+    bom = scene_named("bom", "tiny", prefix=b"\xef\xbb\xbf")
+    bom_out = os.path.join(base, "out-bom")
+    shutil.rmtree(bom_out, ignore_errors=True)
+    case("a UTF-8 file with a byte order mark is read", [bom, "--output", bom_out, "--set", "Run/Max Steps=2"], 0,
+         r"summary in", None)
+    for label, data, message in [
+        ("UTF-16 with its byte order mark (little-endian)", b"\xff\xfe" + tiny.encode("utf-16-le"),
+         r"the file is in UTF-16 \(it starts with that byte order mark\): save it as UTF-8"),
+        ("UTF-16 with its byte order mark (big-endian)", b"\xfe\xff" + tiny.encode("utf-16-be"),
+         r"the file is in UTF-16 \(it starts with that byte order mark\): save it as UTF-8"),
+        ("UTF-16 without a byte order mark", tiny.encode("utf-16-le"), r"the file is in UTF-16 or UTF-32"),
+        ("UTF-32", b"\xff\xfe\x00\x00" + tiny.encode("utf-32-le"), r"the file is in UTF-32"),
+        ("Latin-1 without a declaration", tiny.replace('value="tiny"', 'value="café"').encode("latin-1"),
+         r"line 2: the byte 0xE9 is not UTF-8 .*save it as UTF-8"),
+        ("another declared encoding", b'<?xml version="1.0" encoding="Shift_JIS"?>\n' + tiny.encode(),
+         r"its XML declaration says encoding \"shift_jis\": save it as UTF-8"),
+        ("an entity XML does not define", tiny.replace('value="tiny"', 'value="caf&eacute;"').encode(),
+         r"line 2: '&eacute;' is not an entity XML knows"),
+        ("a reference to no character", tiny.replace('value="tiny"', 'value="a&#0;"').encode(),
+         r"line 2: '&#0;' is not a character XML allows"),
+        ("a tab in Scene/Name", tiny.replace('value="tiny"', 'value="a&#9;b"').encode(),
+         r"Scene/Name contains a control character \(code 9\)")]:
+        scene = write_bytes(os.path.join(base, re.sub(r"[^a-z0-9]+", "-", label.lower()) + ".xml"), data)
+        case(f"{label}: refused as an encoding problem", [scene, "--output", out], 2, message, absent(out))
+    case("--set with a value that is not UTF-8 is refused", [TINY, "--output", out, "--set",
+         os.fsdecode(b"Scene/Name=caf\xe9")], 2, r"--set Scene/Name: the value holds the byte 0xE9, which is not UTF-8",
+         absent(out))
+    grains = write_bytes(os.path.join(base, "grains-bom.txt"), b"\xef\xbb\xbfx y r\n0.5 0.5 0.25\n")
+    bom_grains = os.path.join(base, "out-grains-bom")
+    shutil.rmtree(bom_grains, ignore_errors=True)
+    case("a grain file with a byte order mark is read", [TINY, "--output", bom_grains, "--set", f"Grains/File={grains}",
+         "--set", "Run/Max Steps=2"], 0, r"summary in",
+         lambda: "" if open(os.path.join(bom_grains, "grains_used.txt")).read().count("\n") >= 1 else "no grains")
+    grains = write_bytes(os.path.join(base, "grains-utf16.txt"), "0.5 0.5 0.25\n".encode("utf-16"))
+    case("a grain file in UTF-16 is refused as such", [TINY, "--output", out, "--set", f"Grains/File={grains}"], 2,
+         r"grains-utf16.txt':1: the file is not text in UTF-8 or ASCII", absent(out))
+
+
+def write_bytes(file, data):
+    with open(file, "wb") as f:
+        f.write(data)
+    return file
+
+
+def class_18_image_sizes():
+    """Images whose headers declare more voxels than the memory holds are refused by the estimate, before the
+    voxels are allocated: under a 4 GB address-space limit, as a small machine has."""
+    import resource
+    import struct
+    import zlib
+    base = os.path.dirname(fresh("images"))
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    def png(width, height, depth=8):
+        header = struct.pack(">IIBBBBB", width, height, depth, 0, 0, 0, 0)
+        return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(b"\0" * 16)) +
+                chunk(b"IEND", b""))
+    def tiff(width, height, pages=1, tile=None):
+        """A little-endian TIFF of `pages` pages whose headers declare the size and hold no pixels."""
+        data = bytearray(b"II*\x00" + struct.pack("<I", 8))
+        for page in range(pages):
+            entries = [(256, 4, width), (257, 4, height), (258, 3, 8), (259, 3, 1), (262, 3, 1), (277, 3, 1)]
+            if tile:
+                entries += [(322, 4, tile), (323, 4, tile), (324, 4, 0), (325, 4, 16)]
+            else:
+                entries += [(273, 4, 0), (278, 4, height), (279, 4, 16)]
+            entries.sort()
+            offset = len(data)
+            ifd = struct.pack("<H", len(entries))
+            for tag, kind, value in entries:
+                ifd += struct.pack("<HHIHH", tag, kind, 1, value, 0) if kind == 3 else struct.pack("<HHII", tag, kind, 1, value)
+            following = offset + len(ifd) + 4
+            ifd += struct.pack("<I", following if page + 1 < pages else 0)
+            data += ifd
+        return bytes(data)
+    huge = [("a 68-byte PNG declaring 100000 x 100000", "huge.png", png(100000, 100000), [], "100000 x 100000", "400"),
+            ("a 16-bit PNG declaring 60000 x 60000", "huge16.png", png(60000, 60000, 16), [], "60000 x 60000", "144"),
+            ("a TIFF declaring 100000 x 100000", "huge.tif", tiff(100000, 100000), [], "100000 x 100000", "400"),
+            ("a TIFF stack of 3 pages of 30000 x 30000", "stack.tif", tiff(30000, 30000, 3),
+             ["Domain/Cell Size={1, 1, 1}", "Fluid/Body Force={0.001, 0, 0}"], "30000 x 30000 x 3", "108"),
+            ("a tiled TIFF declaring 80000 x 80000", "tiled.tif", tiff(80000, 80000, tile=256), [], "80000 x 80000",
+             "256")]
+    out = os.path.join(base, "out")
+    shutil.rmtree(out, ignore_errors=True)
+    def four_gigabytes():
+        resource.setrlimit(resource.RLIMIT_AS, (4 << 30, 4 << 30))
+    for label, name, data, settings, shape, gigabytes in huge:
+        image = write_bytes(os.path.join(base, name), data)
+        case(f"{label}: refused by the memory estimate under ulimit -v 4 GB",
+             [TINY, "--output", out] + sets(f"Image/File={image}", "Image/Solid Values={1}", "Image/Voxel Size=1e-5",
+                                            *settings), 2,
+             rf"Image/File '.*{re.escape(name)}' \({shape}\): making its walls takes about {gigabytes}[0-9.]* GB .*"
+             rf"GB are available \(", absent(out), preexec=four_gigabytes)
+    # Raw volumes whose size matches their shape: sparse files, no disk is used.
+    for label, shape, kind, gigabytes in [("8 GB of uint8", "{2000, 2000, 2000}", "uint8", "320"),
+                                          ("a 1.6 GB uint16 volume", "{1000, 1000, 800}", "uint16", "32"),
+                                          ("120 MB, in most machines' memory but not in the limit",
+                                           "{500, 500, 480}", "uint8", "4.8")]:
+        voxels = 1
+        for n in re.findall(r"[0-9]+", shape):
+            voxels *= int(n)
+        raw = os.path.join(base, f"volume-{voxels}-{kind}.raw")
+        with open(raw, "wb") as f:
+            f.truncate(voxels * (2 if kind == "uint16" else 1))
+        case(f"a raw volume of {label}: refused by the memory estimate under ulimit -v 4 GB",
+             [TINY, "--output", out] + sets(f"Image/File={raw}", f"Image/Shape={shape}", f"Image/Type={kind}",
+                                            "Domain/Cell Size={1, 1, 1}", "Fluid/Body Force={0.001, 0, 0}",
+                                            "Image/Solid Values={1}", "Image/Voxel Size=1e-5"), 2,
+             rf"making its walls takes about {gigabytes}[0-9.]* GB for a moment .* GB are available \((what is left "
+             rf"of the process's address-space limit \(ulimit -v\)|MemAvailable in /proc/meminfo)\)", absent(out),
+             preexec=four_gigabytes)
+        os.remove(raw)
+    image = os.path.join(base, "huge.png")
+    case("Run/Memory Limit below the image's needs: the same refusal, naming the limit",
+         [TINY, "--output", out] + sets(f"Image/File={image}", "Image/Solid Values={1}", "Image/Voxel Size=1e-5",
+                                        "Run/Memory Limit=2"), 2, r"2 GB are available \(Run/Memory Limit\)", absent(out),
+         preexec=four_gigabytes)
+
+
+def class_19_paths():
+    """Paths that cannot work are found before any work, saying what to fix."""
+    base = os.path.dirname(fresh("paths"))
+    loop_a, loop_b = os.path.join(base, "loop-a"), os.path.join(base, "loop-b")
+    os.symlink(loop_b, loop_a)
+    os.symlink(loop_a, loop_b)
+    dangling = os.path.join(base, "dangling")
+    os.symlink(os.path.join(base, "nowhere", "dir"), dangling)
+    a_file = write(os.path.join(base, "a-file"), "text\n")
+    dangling_image = os.path.join(base, "image.png")
+    os.symlink(os.path.join(base, "nowhere", "image.png"), dangling_image)
+    out = os.path.join(base, "out")
+    loop = r"its symbolic links lead in a loop"
+    for label, args, message, after in [
+        ("the scene is a symbolic link loop", [loop_a, "--output", out], "cannot read scene file .*: " + loop, absent(out)),
+        ("the scene is a dangling symbolic link", [dangling, "--output", out],
+         r"cannot read scene file .*: it is a symbolic link to '.*nowhere/dir', which does not exist", absent(out)),
+        ("the scene's path runs through a file", [os.path.join(a_file, "scene.xml"), "--output", out],
+         r"a part of the path before its last name is a file", absent(out)),
+        ("Grains/File is a symbolic link loop", [TINY, "--output", out, "--set", f"Grains/File={loop_a}"],
+         r"Grains/File: cannot open .*: " + loop, absent(out)),
+        ("Image/File is a dangling symbolic link",
+         [TINY, "--output", out] + sets(f"Image/File={dangling_image}", "Image/Solid Values={1}",
+                                        "Image/Voxel Size=0.25"),
+         r"Image/File .*image.png': it is a symbolic link to '.*nowhere/image.png', which does not exist", absent(out)),
+        ("--restart is a symbolic link loop", [TINY, "--output", out, "--restart", loop_a], r"--restart .*: " + loop,
+         absent(out)),
+        ("--output is a symbolic link loop", [TINY, "--output", loop_a], r"--output .*loop-a: " + loop, None),
+        ("--output is a dangling symbolic link", [TINY, "--output", dangling],
+         r"--output .*dangling: it is a symbolic link to '.*nowhere/dir', which does not exist: create that directory",
+         absent(os.path.join(base, "nowhere"))),
+        ("--output under a file", [TINY, "--output", os.path.join(a_file, "out")],
+         r"a part of the path is a file, not a directory", None),
+        ("--output where no directory can be made", [TINY, "--output", "/proc/poresph-out"],
+         r"--output /proc/poresph-out: cannot create '/proc/poresph-out'", absent("/proc/poresph-out")),
+        ("--output with a name too long", [TINY, "--output", os.path.join(base, "x" * 300)],
+         r"too long for the file system", None)]:
+        case(f"{label}: exit 2 before any work, saying what is wrong", args, 2, message, after)
+    dangling_parent = os.path.join(dangling, "run")
+    case("--output inside a dangling symbolic link", [TINY, "--output", dangling_parent], 2,
+         r"is a symbolic link to '.*nowhere/dir', which does not exist", absent(os.path.join(base, "nowhere")))
+    target = os.path.join(base, "target")
+    os.makedirs(target)
+    link = os.path.join(base, "link")
+    os.symlink(target, link)
+    case("--output through a symbolic link to a directory writes there", [TINY, "--output", link, "--set",
+         "Run/Max Steps=2"], 0, r"summary in", lambda: "" if "summary.json" in names(target) else "not in the target")
+    # A file system mounted read-only, where one can be (root in a container that allows it).
+    readonly = os.path.join(base, "read-only")
+    os.makedirs(readonly, exist_ok=True)
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=1m", "tmpfs", readonly], capture_output=True).returncode:
+        print("skip   a read-only file system (cannot mount one here)")
+        return
+    try:
+        case("--output on a read-only file system: exit 2 before any work",
+             [TINY, "--output", os.path.join(readonly, "out")], 2, r"Read-only file system", None)
+    finally:
+        subprocess.run(["umount", readonly])
+
+
+def class_20_durability():
+    """Each file is on the disk before it takes its final name, and its directory after the rename: a
+    power loss leaves the old file or the new, never an empty one under the name."""
+    library = os.environ.get("IO_ORDER_LIBRARY", "")
+    for label, settings, extra, status_expected in [
+        ("a run with checkpoints and field files", ["Output/Checkpoint Interval=10", "Output/Field Interval=0.5"], [], 0),
+        ("a run that fails", ["Output/Field Interval=0.5"], ["--inject-nan", "15"], 3)]:
+        out = fresh("durable-" + re.sub(r"[^a-z]+", "-", label))
+        log = os.path.join(os.path.dirname(out), "io.log")
+        env = dict(ENV, LD_PRELOAD=library, PORESPH_IO_ORDER_LOG=log)
+        status, output = run([TINY, "--output", out] + sets("Run/Max Steps=40", *settings) + extra, env=env)
+        problems = [] if status == status_expected else [f"exit status {status}"]
+        lines = [line.split() for line in open(log)] if os.path.exists(log) else []
+        renames = [(k, l[1], l[2]) for k, l in enumerate(lines) if l[0] == "rename"]
+        if not renames:
+            problems.append("no rename was logged")
+        directory = os.path.realpath(out)
+        for k, old, new in renames:
+            if not any(l == ["fsync", old] for l in lines[:k]):
+                problems.append(f"{os.path.basename(new)}: renamed without an fsync of {os.path.basename(old)}")
+            if not any(l == ["fsync", directory] for l in lines[k + 1:]):
+                problems.append(f"{os.path.basename(new)}: its directory is not synced after the rename")
+        kinds = sorted({re.sub(r"_[0-9]+\.h5$", "_N.h5", os.path.basename(new)) for _, _, new in renames})
+        report(f"{label}: every rename ({len(renames)}: {', '.join(kinds)}) follows an fsync and precedes the "
+               "directory's", problems[:5], output)
+
 CLASSES = {"1": class_1_counts, "2": class_2_xml, "3": class_3_grains, "4": class_4_restart,
            "5": class_5_output_directories, "6": class_6_results_kept,
            "7": class_7_messages, "8": class_8_setup_time,
-           "9": class_9_tests_stay}
+           "9": class_9_tests_stay, "10": class_10_run_files, "11": class_11_claim,
+           "12": class_12_restart_no_step_left, "13": class_13_signals, "14": class_14_continued_runs,
+           "15": class_15_scene_requests, "16": class_16_messages, "17": class_17_names_and_encodings,
+           "18": class_18_image_sizes, "19": class_19_paths, "20": class_20_durability}
 os.makedirs(WORK, exist_ok=True)
 os.chdir(WORK)  # a default output directory (poresph-NAME) lands here, never in the source tree
 CLASSES[CLASS]()
