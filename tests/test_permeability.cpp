@@ -107,7 +107,7 @@ TEST(Permeability, TensorOfProblemThreeIsSymmetric) {
       run_input("problem3/problem3.xml", {"Permeability/Tensor=true", "Discretization/Particle Spacing=0.002"});
   const double kxy = report.permeability[0][1], kyx = report.permeability[1][0];
   EXPECT_GT(std::abs(kxy), 0.1 * report.permeability[1][1]);  // the cell is anisotropic: a real test
-  EXPECT_NEAR(kxy / kyx, 1.0, 0.01);  // measured 1.0022 (session 6; 0.98 and 0.885 with moving particles)
+  EXPECT_NEAR(kxy / kyx, 1.0, 0.01);  // measured 1.0022 with fixed particles (0.98 and 0.885 with moving ones)
   EXPECT_GT(report.permeability[0][0], 2 * report.permeability[1][1]);  // throats favour x in this packing
 }
 

@@ -37,7 +37,7 @@ struct RunInterrupted : std::runtime_error {
 
 // Installs the handlers of the signals that stop a run with a checkpoint
 // and a summary: SIGINT (Ctrl-C), SIGTERM (kill, a batch system's end),
-// SIGHUP (the terminal or ssh session closed) and SIGPIPE (the reader of
+// SIGHUP (the terminal or ssh connection closed) and SIGPIPE (the reader of
 // the output went away: `poresph ... | head -1`). The handlers only note
 // the signal; the run stops where it can save its state. A write to a pipe
 // with no reader then fails with EPIPE instead of ending the process.
