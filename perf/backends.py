@@ -36,7 +36,7 @@ SCENES = {"I": "problem1/problem1.xml", "III": "problem3/problem3.xml"}
 
 
 def settings(args, dx, backend, threads):
-    # Moving particles, as in the figures of docs/performance.md (sessions 4-5).
+    # Moving particles, as in the figures of docs/performance.md.
     return [f"Discretization/Particle Spacing={dx!r}", f"Run/Max Steps={args.steps}",
             "Permeability/Steady Tolerance=0", f"Run/Backend={backend}", f"Run/Threads={threads}"] + \
         moving_particles(args.build)

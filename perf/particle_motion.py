@@ -10,11 +10,12 @@ core (medians), on problem III at dx = 0.005 L.
     perf/particle_motion.py [--build build] [--baseline DIR_WITH_OLD_poresph] [--out build/particle-motion]
         [--repeats 5] [--timing-steps 400] [--skip-steady]
 
-The baseline is a poresph built from an earlier commit (session 5's is
-57d5985: `git worktree add /tmp/base 57d5985`, then configure and build
-there as docs/building.md says); it is given the settings its scenes had
-then (Particle Shifting 4, Steady Tolerance 3e-3), since the scene files
-no longer carry them. Prints two Markdown tables for docs/method.md and
+The baseline is a poresph built from an earlier commit (the one of
+docs/method.md's tables is 57d5985, whose particles move: `git worktree
+add /tmp/base 57d5985`, then configure and build there as
+docs/building.md says); it is given the settings its scenes had then
+(Particle Shifting 4, Steady Tolerance 3e-3), which the scene files do
+not carry. Prints two Markdown tables for docs/method.md and
 writes particle_motion.csv into --out.
 """
 import argparse
@@ -44,7 +45,7 @@ def variants(args):
     out = [("fixed (default)", args.build, []),
            ("moving, shifting A = 4, wall by continuity", args.build, MOVING)]
     if args.baseline:
-        out.append(("session 5 binary (moving, shifting A = 4)", args.baseline, BASELINE))
+        out.append(("baseline binary (moving, shifting A = 4)", args.baseline, BASELINE))
     return out
 
 

@@ -53,8 +53,8 @@ def knows_overwrite(build):
 
 def moving_particles(build):
     """The settings that make a poresph of `build` move its particles, as the
-    paper's SPH (and LAMMPS's) does: the default since session 6 keeps them
-    fixed (docs/method.md). Empty for a build older than that setting, whose
+    paper's SPH (and LAMMPS's) does: the default keeps them fixed
+    (docs/method.md). Empty for a build older than that setting, whose
     particles always move."""
     listing = subprocess.run([os.path.join(build, "poresph"), "--help-parameters"], capture_output=True, text=True)
     if "Particle Motion" not in listing.stdout:

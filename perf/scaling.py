@@ -32,7 +32,7 @@ SCENES = {"1": "problem1/problem1.xml", "2": "problem2/problem2.xml", "3": "prob
           "3d": "3d/simple_cubic.xml"}
 def run(build, out, scene, ranks, steps, settings):
     directory = os.path.join(out, "runs", f"{os.path.basename(scene)}-{ranks}-{'-'.join(settings)}".replace("/", "_"))
-    # Moving particles, as in the figures of docs/performance.md (sessions 2-5).
+    # Moving particles, as in the figures of docs/performance.md (and as LAMMPS moves them).
     return run_poresph(build, scene, directory, [f"Run/Max Steps={steps}", "Permeability/Steady Tolerance=0", *settings,
                                                  *moving_particles(build)], ranks=ranks)
 

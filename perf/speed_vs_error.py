@@ -5,7 +5,7 @@ Sangani & Acrivos 1982) and problem III (reference: the finite-element
 value of perf/stokes_reference.py, or else the finest PoreSPH run), at
 several resolutions, each with PoreSPH's default (fixed particles,
 docs/method.md) and with moving particles as in the paper plus particle
-shifting (the default until session 5); at the middle resolution also the
+shifting (the paper's method); at the middle resolution also the
 moving particles with the raised sound speed and the fixed ones without
 the convective term. Every run stops by itself when k is steady.
 
@@ -42,7 +42,7 @@ L = 0.1
 SANGANI_ACRIVOS = {20: 1 / 51.53, 50: 1 / 532.55}
 DEFAULT = "fixed (default)"
 LADDER = "ladder, 3 levels"
-MOVING = "moving, shifting"  # the paper's moving particles with particle shifting, session 5's default
+MOVING = "moving, shifting"  # the paper's moving particles, with particle shifting
 MOVING_SETTINGS = ["Discretization/Particle Motion=lagrangian", "Discretization/Wall Pressure=continuity",
                    "Discretization/Particle Shifting=4"]
 END_TIME = 8000.0  # of the scenes below: what a run without the steady-state stop would simulate
