@@ -209,8 +209,13 @@ void OutputClaim::claim(const std::string& dir) {
                            "): " + std::strerror(error) + "; choose another directory");
     }
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      // The holder names itself just after it takes the lock: a moment's wait for that.
       char holder[256] = {};
-      const ssize_t n = ::pread(fd, holder, sizeof holder - 1, 0);
+      ssize_t n = 0;
+      for (int wait = 0; wait < 20 && n <= 0; ++wait) {
+        if (wait > 0) ::usleep(5000);
+        n = ::pread(fd, holder, sizeof holder - 1, 0);
+      }
       ::close(fd);
       std::string who(holder, n > 0 ? static_cast<size_t>(n) : 0);
       while (!who.empty() && (who.back() == '\n' || who.back() == '\0')) who.pop_back();

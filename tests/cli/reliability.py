@@ -718,8 +718,8 @@ def class_11_claim():
             if sorted(statuses) != [0] + [2] * 7:
                 problems.append(f"exit statuses {statuses}")
             refused = [o for r, o in zip(runs, outputs) if r.returncode == 2]
-            unclear = [o for o in refused if not re.search(r"is in use by another run \(process [0-9]+ on .*since|"
-                                                           r"holds the results of another run", o)]
+            unclear = [o for o in refused if not re.search(r"is in use by another run( \(process [0-9]+ on .*since "
+                                                           r".*\))?; wait|holds the results of another run", o)]
             if unclear:
                 problems.append(f"{len(unclear)} refusals do not say the directory is taken")
             if names(out) != expected:
