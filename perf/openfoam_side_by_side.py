@@ -12,6 +12,12 @@ voxels and nu = 1 inside the case; k = nu <u> / F with <u> the superficial
 velocity (the integral of u over the fluid cells over the box volume), in
 voxels^2 and, with --voxel-size, in m^2.
 
+Pore clusters that do not cross the periodic cell along --axis (isolated
+pockets; face connectivity through the periodic faces, perf/blobs.py's
+check, which needs SciPy) are made solid first: they carry no mean flow
+along the axis, and a pore cell with no fluid neighbour would make the
+pressure matrix singular.
+
 Converged when the initial residuals of p and of every component of U are
 below --residual (SIMPLE residualControl) and k changed by less than
 --k-tolerance (relative) over the last --k-window iterations. A run that
@@ -50,6 +56,7 @@ import time
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
 OPENFOAM_DIR = "/usr/share/openfoam"
 
 
@@ -92,7 +99,6 @@ def solid_of(values, solid_values):
 def sphere_array(lattice, fraction, per_side):
     """Solid voxels of a cubic array of spheres, its sphere radius in voxels
     and the reference k / a^2 (Zick & Homsy for sc)."""
-    sys.path.insert(0, HERE)
     from rasterise import rasterise
     from sphere_arrays import CENTRES, DRAG, L, radius
 
@@ -300,8 +306,12 @@ def openfoam_env():
     return env
 
 
+CPU_SECONDS = {}  # user + system seconds of each tool, summed over its ranks and passes
+
+
 def step(case, name, cmd, ranks=None):
-    """Runs one OpenFOAM tool under /usr/bin/time -v; returns (seconds, peak RSS in MB per process)."""
+    """Runs one OpenFOAM tool under /usr/bin/time -v; returns (wall seconds, peak RSS in MB per process)
+    and adds its CPU seconds (all ranks) to CPU_SECONDS."""
     log = os.path.join(case, f"log.{name}")
     if ranks:
         inner = f"exec /usr/bin/time -v -o {case}/time.{name}.$OMPI_COMM_WORLD_RANK {' '.join(cmd)} -parallel"
@@ -314,10 +324,12 @@ def step(case, name, cmd, ranks=None):
     seconds = time.monotonic() - start
     if done.returncode != 0:
         raise SystemExit(f"{name} failed (status {done.returncode}); see {log}")
-    peaks = []
+    peaks, cpu = [], 0.0
     for r in range(ranks or 1):
         text = open(f"{case}/time.{name}.{r}").read()
         peaks.append(int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", text).group(1)) / 1024)
+        cpu += sum(float(v) for v in re.findall(r"(?:User|System) time \(seconds\): ([0-9.]+)", text))
+    CPU_SECONDS[name.split(".")[0]] = CPU_SECONDS.get(name.split(".")[0], 0.0) + cpu
     return seconds, peaks
 
 
@@ -352,8 +364,26 @@ def flow_history(case):
     return np.array([rows[i] for i in sorted(rows)])
 
 
+def fill_closed_pores(solid, axis):
+    """The image with every pore cluster that does not cross the periodic cell along `axis` made solid
+    (face connectivity, through the periodic faces; perf/blobs.py's check), and how many voxels that
+    filled. Such a cluster carries no mean flow along the axis, so k is unchanged; left in, each is a
+    piece of mesh with no pressure reference, and a cell with no fluid neighbour makes the pressure
+    matrix singular (simpleFoam stops on a floating-point exception)."""
+    from blobs import periodic_percolation
+
+    labels, wraps = periodic_percolation(~solid)
+    crossing = wraps[:, "xyz".index(axis)]
+    closed = (labels > 0) & ~crossing[labels]
+    if not crossing[1:].any():
+        raise SystemExit(f"no pore path crosses the cell along {axis}: k is zero")
+    return solid | closed, int(closed.sum())
+
+
 def run(args, solid, reference=None, a_voxels=None):
     dim = solid.ndim
+    porosity = 1.0 - float(solid.mean())
+    solid, filled = fill_closed_pores(solid, args.axis)
     shape = list(solid.shape)
     case = os.path.abspath(args.case)
     if os.path.exists(case):
@@ -364,7 +394,6 @@ def run(args, solid, reference=None, a_voxels=None):
     write_case(case, shape, solid, axis, args.force, nu, args)
     box = float(np.prod(shape))
     c = 1 + "xyz".index(axis)
-    porosity = 1.0 - float(solid.mean())
 
     times, memory = {}, {}
     t0 = time.monotonic()
@@ -413,6 +442,7 @@ def run(args, solid, reference=None, a_voxels=None):
         "voxels": int(box),
         "cells": cells,
         "porosity": porosity,
+        "closed_pore_voxels_filled": filled,
         "axis": axis,
         "cores": args.cores,
         "force": args.force,
@@ -430,6 +460,7 @@ def run(args, solid, reference=None, a_voxels=None):
         "solve_seconds": times["simpleFoam"],
         "total_seconds": total,
         "seconds": times,
+        "cpu_seconds": dict(CPU_SECONDS),
         "peak_rss_mb": memory,
         "solver_peak_rss_mb_max": max(memory["simpleFoam"]),
         "solver_peak_rss_mb_sum": sum(memory["simpleFoam"]),
