@@ -6,8 +6,11 @@ OpenFOAM v1912; `scripts/setup.sh openfoam` installs it).
 The case: blockMesh of the whole box, one cell per voxel, cyclic patches on
 all three axes; the solid voxels removed (their cells left out with
 subsetMesh, the faces this exposes becoming the no-slip patch `walls`);
-laminar, steady SIMPLE (SIMPLEC); driven by a uniform body force F along
---axis (fvOptions vectorSemiImplicitSource, per unit mass). Lengths are in
+laminar, steady SIMPLEC (U relaxed by 0.95, p not relaxed); driven by a
+uniform body force F along --axis (fvOptions vectorSemiImplicitSource, per
+unit mass). --method penalise keeps the solid cells instead, with a Darcy
+drag nu D u in them (explicitPorositySource, DarcyForchheimer, D = --penalty
+per voxel^2), for comparison. Lengths are in
 voxels and nu = 1 inside the case; k = nu <u> / F with <u> the superficial
 velocity (the integral of u over the fluid cells over the box volume), in
 voxels^2 and, with --voxel-size, in m^2.
@@ -216,6 +219,38 @@ bodyForce
     }}
 }}
 """)
+    if args.method == "penalise":
+        force_options = open(os.path.join(case, "constant", "fvOptions")).read()
+        # Brinkman penalisation: a Darcy drag nu D u in the solid cells (zone `solid`), D in 1/voxel^2.
+        d = args.penalty
+        write_dict(case, "constant", "fvOptions", f"""
+solidDrag
+{{
+    type explicitPorositySource;
+    active yes;
+    explicitPorositySourceCoeffs
+    {{
+        selectionMode cellZone;
+        cellZone solid;
+        type DarcyForchheimer;
+        DarcyForchheimerCoeffs
+        {{
+            d ({d!r} {d!r} {d!r});
+            f (0 0 0);
+            coordinateSystem
+            {{
+                type cartesian;
+                origin (0 0 0);
+                coordinateRotation {{ type axesRotation; e1 (1 0 0); e2 (0 1 0); }}
+            }}
+        }}
+    }}
+}}
+""")
+        with open(os.path.join(case, "constant", "fvOptions")) as f:
+            drag = f.read().split("}\n", 1)[1]  # after the FoamFile header
+        with open(os.path.join(case, "constant", "fvOptions"), "w") as f:
+            f.write(force_options + drag)
     write_dict(case, "constant", "transportProperties", f"transportModel Newtonian;\nnu {nu!r};\n")
     write_dict(case, "constant", "turbulenceProperties", "simulationType laminar;\n")
     empty_z = "" if dim == 3 else "    \"z.*\" { type empty; }\n"
@@ -281,6 +316,18 @@ relaxationFactors
     equations {{ U {args.relax_u}; }}
 }}
 """)
+
+def write_solid_zone(case, solid):
+    """The cellZone `solid` (the penalised cells), in blockMesh's cell numbering."""
+    nx, ny = solid.shape[0], solid.shape[1]
+    nz = solid.shape[2] if solid.ndim == 3 else 1
+    cells = np.flatnonzero(solid.reshape(nx, ny, nz).transpose(2, 1, 0).ravel())
+    with open(os.path.join(case, "constant", "polyMesh", "cellZones"), "w") as out:
+        out.write(HEADER.format(cls="regIOobject", location="constant/polyMesh", obj="cellZones"))
+        out.write(f"1\n(\nsolid\n{{\n    type cellZone;\n    cellLabels List<label> {cells.size}\n(\n")
+        np.savetxt(out, cells, fmt="%d")
+        out.write(");\n}\n)\n")
+
 
 def write_fluid_set(case, solid):
     """The cellSet of the fluid cells (after blockMesh, which clears polyMesh/): blockMesh numbers the
@@ -398,9 +445,12 @@ def run(args, solid, reference=None, a_voxels=None):
     times, memory = {}, {}
     t0 = time.monotonic()
     times["blockMesh"], memory["blockMesh"] = step(case, "blockMesh", ["blockMesh"])
-    write_fluid_set(case, solid)
-    times["subsetMesh"], memory["subsetMesh"] = step(case, "subsetMesh",
-                                                     ["subsetMesh", "fluid", "-patch", "walls", "-overwrite"])
+    if args.method == "remove":
+        write_fluid_set(case, solid)
+        times["subsetMesh"], memory["subsetMesh"] = step(case, "subsetMesh",
+                                                         ["subsetMesh", "fluid", "-patch", "walls", "-overwrite"])
+    else:
+        write_solid_zone(case, solid)
     if args.cores > 1:
         times["decomposePar"], memory["decomposePar"] = step(case, "decomposePar", ["decomposePar"])
     mesh_seconds = time.monotonic() - t0
@@ -433,7 +483,7 @@ def run(args, solid, reference=None, a_voxels=None):
         residual /= 10
     total = time.monotonic() - t0
 
-    cells = int((~solid).sum())
+    cells = int((~solid).sum()) if args.method == "remove" else int(solid.size)
     cross = [float(flow[-1, 1 + d] / flow[-1, c]) for d in range(3) if d != c - 1]
     summary = {
         "tool": f"OpenFOAM v1912 simpleFoam ({'SIMPLEC' if args.consistent else 'SIMPLE'})",
@@ -445,6 +495,7 @@ def run(args, solid, reference=None, a_voxels=None):
         "closed_pore_voxels_filled": filled,
         "axis": axis,
         "cores": args.cores,
+        "method": args.method,
         "force": args.force,
         "k_voxels2": k,
         "converged": bool(converged),
@@ -492,6 +543,10 @@ def main():
     ap.add_argument("--solid-values", type=int, nargs="+", help="solid labels (default: every non-zero voxel)")
     ap.add_argument("--fraction", type=float, help="spheres: solid fraction")
     ap.add_argument("--per-side", type=int, help="spheres: voxels per side of the cubic cell")
+    ap.add_argument("--method", choices=["remove", "penalise"], default="remove",
+                    help="solid voxels: cells removed (subsetMesh; default) or kept with a Darcy drag")
+    ap.add_argument("--penalty", type=float, default=1e6,
+                    help="penalise: Darcy coefficient D of the solid cells, 1/voxel^2 (default 1e6)")
     ap.add_argument("--axis", choices=["x", "y", "z"], default="x", help="direction of the body force")
     ap.add_argument("--force", type=float, default=1e-7,
                     help="body force per unit mass, voxel units with nu = 1 (default 1e-7: creeping flow)")
@@ -504,8 +559,8 @@ def main():
     ap.add_argument("--k-tolerance", type=float, default=1e-5, help="k's relative change over the window")
     ap.add_argument("--k-window", type=int, default=50, help="iterations of that window")
     ap.add_argument("--max-iterations", type=int, default=20000)
-    ap.add_argument("--relax-u", type=float, default=0.9)
-    ap.add_argument("--relax-p", type=float, default=1.0)
+    ap.add_argument("--relax-u", type=float, default=0.95, help="U relaxation (default 0.95)")
+    ap.add_argument("--relax-p", type=float, default=1.0, help="p relaxation (default 1: SIMPLEC)")
     ap.add_argument("--simple", dest="consistent", action="store_false",
                     help="plain SIMPLE instead of SIMPLEC (then e.g. --relax-u 0.7 --relax-p 0.3)")
     ap.add_argument("--p-rel-tol", type=float, default=0.05)
