@@ -552,7 +552,9 @@ def main():
                     help="body force per unit mass, voxel units with nu = 1 (default 1e-7: creeping flow)")
     ap.add_argument("--voxel-size", type=float, help="voxel side in m: k is also given in m^2")
     ap.add_argument("--cores", type=int, default=1, help="1, or N for decomposePar + mpirun -np N")
-    ap.add_argument("--decomposition", default="scotch", help="decomposePar method (default scotch)")
+    ap.add_argument("--decomposition", default="simple",
+                    help="decomposePar method (default simple: slabs along x of equal cell counts; Debian's "
+                         "scotchDecomp is a stub)")
     ap.add_argument("--case", default="openfoam-case", help="case directory (replaced)")
     ap.add_argument("--json", help="also write the summary here")
     ap.add_argument("--residual", type=float, default=1e-6, help="initial residuals of p and U below this")
