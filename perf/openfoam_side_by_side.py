@@ -9,11 +9,11 @@ subsetMesh, the faces this exposes becoming the no-slip patch `walls`);
 laminar, steady SIMPLEC (U relaxed by 0.95, p not relaxed); driven by a
 uniform body force F along --axis (fvOptions vectorSemiImplicitSource, per
 unit mass). --method penalise keeps the solid cells instead, with a Darcy
-drag nu D u in them (explicitPorositySource, DarcyForchheimer, D = --penalty
-per voxel^2), for comparison. Lengths are in
-voxels and nu = 1 inside the case; k = nu <u> / F with <u> the superficial
-velocity (the integral of u over the fluid cells over the box volume), in
-voxels^2 and, with --voxel-size, in m^2.
+drag nu D u in them (explicitPorositySource, DarcyForchheimer, D =
+--penalty per voxel^2), for comparison. Lengths are in voxels and nu = 1
+inside the case; k = nu <u> / F with <u> the superficial velocity (the
+integral of u over the fluid cells over the box volume), in voxels^2 and,
+with --voxel-size, in m^2. docs/openfoam.md says why these settings.
 
 Pore clusters that do not cross the periodic cell along --axis (isolated
 pockets; face connectivity through the periodic faces, perf/blobs.py's
@@ -42,9 +42,9 @@ sphere of the simple cubic (sc), bcc or fcc array of solid fraction
 project's reference (bcc, fcc) beside OpenFOAM's.
 
 Writes the case into --case and a JSON summary (stdout, and --json): k,
-iterations, wall seconds (mesh, solve, total), peak resident memory of each
-step (per rank for the solver), cells, porosity, the final residuals and
-k's relative change over the window. Times are of this machine as it was
+iterations, wall and CPU seconds (mesh, solve, total), peak resident
+memory of each step (per rank for the solver, /usr/bin/time -v), cells,
+porosity, the final residuals and k's relative change over the window. Times are of this machine as it was
 loaded at the time: repeat them and quote medians.
 """
 import argparse
@@ -428,7 +428,6 @@ def fill_closed_pores(solid, axis):
 
 
 def run(args, solid, reference=None, a_voxels=None):
-    dim = solid.ndim
     porosity = 1.0 - float(solid.mean())
     solid, filled = fill_closed_pores(solid, args.axis)
     shape = list(solid.shape)
