@@ -8,8 +8,8 @@
 #   scripts/setup.sh build
 #   scripts/setup.sh tools   # also the reference tools (FreeFem++ for perf/stokes_reference.py, SciPy for
 #                            # perf/periodic_stokes_spheres.py); `test` installs them too
-#   scripts/setup.sh openfoam  # also OpenFOAM v1912 (Debian's `openfoam`) for perf/openfoam_side_by_side.py;
-#                              # not part of `test` (large, and no CTest needs it)
+#   scripts/setup.sh openfoam  # the tools, and OpenFOAM v1912 (Debian's `openfoam`) for
+#                              # perf/openfoam_side_by_side.py; not part of `test` (large, and no CTest needs it)
 #
 # Environment: BUILD_DIR (default build), CMAKE_ARGS (extra configure flags).
 set -euo pipefail
