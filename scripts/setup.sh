@@ -8,6 +8,8 @@
 #   scripts/setup.sh build
 #   scripts/setup.sh tools   # also the reference tools (FreeFem++ for perf/stokes_reference.py, SciPy for
 #                            # perf/periodic_stokes_spheres.py); `test` installs them too
+#   scripts/setup.sh openfoam  # the tools, and OpenFOAM v1912 (Debian's `openfoam`) for
+#                              # perf/openfoam_side_by_side.py; not part of `test` (large, and no CTest needs it)
 #
 # Environment: BUILD_DIR (default build), CMAKE_ARGS (extra configure flags).
 set -euo pipefail
@@ -32,6 +34,9 @@ packages=(
 
 # Not needed to build; their tests run where they are installed (`test`, `tools`).
 tool_packages=(freefem++ python3-scipy)
+# The OpenFOAM yardstick (docs/openfoam.md): simpleFoam, blockMesh, subsetMesh, decomposePar on /usr/bin;
+# they need WM_PROJECT_DIR=/usr/share/openfoam (or `. /usr/share/openfoam/etc/bashrc`).
+openfoam_packages=(openfoam time)
 
 install_missing() {
   local missing=()
@@ -57,6 +62,7 @@ configure_and_build() {
 }
 
 if [ "$mode" = tools ] || [ "$mode" = test ]; then packages+=("${tool_packages[@]}"); fi
+if [ "$mode" = openfoam ]; then packages+=("${tool_packages[@]}" "${openfoam_packages[@]}"); fi
 install_missing
 configure_and_build
 
@@ -67,6 +73,6 @@ export OMPI_MCA_rmaps_base_oversubscribe=1
 case "$mode" in
   run)   exec "$build_dir/poresph" "$here/input/poiseuille.xml" --output "$build_dir/run-poiseuille" "$@" ;;
   test)  cd "$build_dir" && exec ctest --output-on-failure -j "${JOBS:-2}" "$@" ;;
-  build|tools) ;;
-  *) echo "usage: $0 run|test|build|tools" >&2; exit 2 ;;
+  build|tools|openfoam) ;;
+  *) echo "usage: $0 run|test|build|tools|openfoam" >&2; exit 2 ;;
 esac
