@@ -199,9 +199,11 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
       const long long hi = neighbour(at, index, d, 1);
       if (hi < 0 || (phi[at] - 0.5) * (phi[hi] - 0.5) > 0 || phi[at] == phi[hi]) continue;
       const double t = (phi[at] - 0.5) / (phi[at] - phi[hi]);
+      // The point as its offset from the centre of voxel `at`: distances are
+      // then whole voxel offsets less this, the same in any frame of the
+      // voxels (a rank's window of them gives the whole image's bits).
       std::array<double, 3> f{}, g_at{}, g_hi{}, u{};
-      for (int e = 0; e < dim; ++e) f[e] = index[e] + 0.5;
-      f[d] += t;
+      f[d] = t;
       gradient_at(at, g_at);
       gradient_at(hi, g_hi);
       double length_sq = 0;
@@ -236,11 +238,12 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
     for (int k = -reach[2]; k <= reach[2]; ++k)
       for (int j = -reach[1]; j <= reach[1]; ++j)
         for (int i = -reach[0]; i <= reach[0]; ++i) {
-          long long q = 0;
+          long long q = 0, apart[3] = {0, 0, 0};  // voxel offsets from q to this voxel
           bool inside = true;
           const int offset[3] = {i, j, k};
           for (int d = dim - 1; d >= 0; --d) {
             long long c = centre[d] + offset[d];
+            apart[d] = index[d] - c;
             if (c < 0 || c >= shape[d]) {
               if (!periodic[d]) inside = false;
               c = (c % shape[d] + shape[d]) % shape[d];
@@ -252,8 +255,11 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
             const auto& f = foot[point];
             double r[3] = {0, 0, 0}, r_sq = 0, along = 0;
             for (int d = 0; d < dim; ++d) {
-              r[d] = index[d] + 0.5 - f[d];
-              if (periodic[d]) r[d] -= shape[d] * std::floor(r[d] / shape[d] + 0.5);  // nearest image
+              long long whole = apart[d];
+              if (periodic[d])  // the nearest image, shifted by whole periods before the fraction is taken
+                whole -= shape[d] * static_cast<long long>(
+                                        std::floor((static_cast<double>(whole) - f[d]) / shape[d] + 0.5));
+              r[d] = static_cast<double>(whole) - f[d];
               r_sq += r[d] * r[d];
               along += r[d] * normal[point][d];
             }

@@ -204,7 +204,12 @@ RCP<ParameterList> make_valid_parameters() {
           "The image, by extension: .png (2D, 8 or 16-bit greyscale), .tif or .tiff (2D, or 3D as a stack of "
           "pages, page p at z = p; 8 or 16-bit greyscale), .raw (headerless, with Shape and Type). The first row "
           "of a PNG or TIFF page is at the largest y (y up, as displayed); a raw volume is x fastest, then y, "
-          "then z. A relative path is relative to the scene file's folder. Empty: no image.");
+          "then z; .h5 or .hdf5 (an integer dataset, Dataset, [y][x] or [z][y][x] as stored, x fastest, as a raw "
+          "volume and as h5py writes a numpy array a[z, y, x]; uint8 or wider, labels 0 to 65535). A relative "
+          "path is relative to the scene file's folder. Empty: no image.");
+    s.set("Dataset", std::string(""),
+          "REQUIRED for an HDF5 File (.h5, .hdf5), and only for one: the dataset's path inside the file, e.g. "
+          "'/segmented'.");
     s.set("Shape", Array<int>(),
           "Voxels per direction, {nx, ny} (2D) or {nx, ny, nz} (3D): REQUIRED for .raw, checked against the "
           "file's size; for .png and .tif, checked against the image when given.",
@@ -633,6 +638,7 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   const auto solid_values = image.get<Array<int>>("Solid Values");
   const double voxel_size = image.get<double>("Voxel Size");
   const bool mirror = image.get<bool>("Mirror");
+  const std::string dataset = image.get<std::string>("Dataset");
   std::string file = image.get<std::string>("File");
   if (file.empty()) {
     // Said, not ignored: a scene that sets them meant to use an image.
@@ -640,6 +646,7 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
                         : !solid_values.empty() ? "Solid Values"
                         : voxel_size > 0        ? "Voxel Size"
                         : mirror                ? "Mirror"
+                        : !dataset.empty()      ? "Dataset"
                                                 : nullptr;
     if (given) throw ParameterError(std::string("Image/") + given + " is given but Image/File is empty");
     return;
@@ -683,7 +690,7 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   };
   VoxelImage voxels;
   try {
-    voxels = read_image(file, raw, check_memory);
+    voxels = read_image(ImageSource{file, raw, dataset}, check_memory);
   } catch (const std::invalid_argument& e) {
     throw ParameterError(e.what());
   }

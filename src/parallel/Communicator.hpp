@@ -43,6 +43,33 @@ class Communicator {
   }
   void sum(double* values, int n) const { MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_SUM, comm_); }
 
+  double min(double x) const { return reduce(x, MPI_MIN); }
+  // The sum of x over the ranks before this one (0 on rank 0).
+  long long sum_before(long long x) const {
+    long long r = 0;
+    MPI_Exscan(&x, &r, 1, MPI_LONG_LONG, MPI_SUM, comm_);
+    return rank_ == 0 ? 0 : r;
+  }
+  // Every rank's values, concatenated in rank order, on rank 0 (empty elsewhere).
+  std::vector<long long> gather(const std::vector<long long>& values) const {
+    const long long count = static_cast<long long>(values.size());
+    std::vector<long long> counts(size_);
+    MPI_Gather(&count, 1, MPI_LONG_LONG, counts.data(), 1, MPI_LONG_LONG, 0, comm_);
+    std::vector<int> lengths(size_), offsets(size_, 0);
+    long long total = 0;
+    for (int r = 0; r < size_; ++r) lengths[r] = static_cast<int>(counts[r]), offsets[r] = static_cast<int>(total), total += counts[r];
+    std::vector<long long> all(rank_ == 0 ? static_cast<size_t>(total) : 0);
+    MPI_Gatherv(values.data(), static_cast<int>(count), MPI_LONG_LONG, all.data(), lengths.data(), offsets.data(),
+                MPI_LONG_LONG, 0, comm_);
+    return all;
+  }
+  // Rank 0's flag, on every rank.
+  bool broadcast(bool flag) const {
+    int value = flag ? 1 : 0;
+    MPI_Bcast(&value, 1, MPI_INT, 0, comm_);
+    return value != 0;
+  }
+
   // Every rank's text, concatenated in rank order, on rank 0 (empty elsewhere).
   std::string gather_text(const std::string& text) const {
     const int length = static_cast<int>(text.size());

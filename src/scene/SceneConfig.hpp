@@ -33,6 +33,12 @@ struct ImageConfig {
   // The signed distance to the solid's surface at the voxel centres (m),
   // made once from the voxels (surface_distance, geometry/DistanceTransform.hpp).
   std::shared_ptr<const std::vector<float>> distance;
+  // Where a process holds only its piece of the image (scene/ImagePieces.hpp):
+  // the cell's voxel of the piece's voxel 0 (below 0 in a halo across a
+  // periodic face), and per axis whether the piece is the whole periodic
+  // axis and wraps as the cell does. The whole image: 0, and the cell's own.
+  std::array<long long, 3> piece_first{};
+  std::array<bool, 3> piece_wraps{{true, true, true}};
   // Per axis the image is driven along: the width (m) its widest pore path
   // that way narrows to, from the distance field (0: not driven that way).
   std::array<double, 3> bottleneck{};
