@@ -18,12 +18,6 @@
 
 namespace poresph {
 
-// The voxels of the cell a box covers: [lo, hi) along each axis, in the
-// cell's voxels (after Image/Mirror).
-struct VoxelBox {
-  std::array<long long, 3> lo{}, hi{{0, 0, 1}};
-};
-
 // The voxels whose centres lie in the box [lo, hi) (m), as a lattice
 // point's does: the boxes of a decomposition share the voxels out, each to
 // one. A lattice point in the box reads the voxels up to one beyond them,
