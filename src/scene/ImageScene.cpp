@@ -50,6 +50,20 @@ void on_every_process(const Communicator& comm, Step&& step) {
   if (!problem.empty()) refuse(problem);
 }
 
+// How the file's voxels lie in the cell, as the request asks: doubled
+// along the driven axis with Image/Mirror (checked in checked_layout).
+ImageLayout image_layout(const ImageRequest& request, const ImageHeader& header, const SceneConfig& scene) {
+  ImageLayout layout;
+  layout.dimension = header.dimension;
+  layout.file_shape = header.shape;
+  layout.periodic = scene.periodic;
+  int driven = 0;
+  for (int d = 0; request.mirror && d < header.dimension; ++d)
+    if (scene.body_force[d] != 0) layout.mirror_axis = d, ++driven;
+  if (driven != 1) layout.mirror_axis = -1;
+  return layout;
+}
+
 // What the file says of itself, checked against the scene: its dimension,
 // the solid values its bits can hold, the mirror's axis, the cell's extent.
 ImageLayout checked_layout(const ImageRequest& request, const ImageHeader& header, SceneConfig& scene) {
@@ -67,10 +81,7 @@ ImageLayout checked_layout(const ImageRequest& request, const ImageHeader& heade
     if (v > largest)
       refuse("Image/Solid Values: " + std::to_string(v) + " cannot occur in " + named + ", an " +
              std::to_string(header.bits) + "-bit image (values 0 to " + std::to_string(largest) + ")");
-  ImageLayout layout;
-  layout.dimension = header.dimension;
-  layout.file_shape = header.shape;
-  layout.periodic = scene.periodic;
+  ImageLayout layout = image_layout(request, header, scene);
   if (request.mirror) {
     if (request.tensor)
       refuse("Image/Mirror mirrors along the one driven axis, and Permeability/Tensor drives every axis in turn: "
@@ -105,14 +116,16 @@ ImageLayout checked_layout(const ImageRequest& request, const ImageHeader& heade
   return layout;
 }
 
-// This process's box of the process grid, in the cell's voxels.
+// This process's box of the process grid over the image's extent (the
+// cell, once checked), in the cell's voxels.
 template <int Dim>
 VoxelBox grid_voxel_box(const SceneConfig& scene, const ImageLayout& layout, double voxel_size,
                         const Communicator& comm) {
   std::array<double, Dim> cell{};
   std::array<bool, Dim> periodic{};
   std::array<std::vector<double>, Dim> cuts;
-  for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d], cuts[d] = scene.cuts[d];
+  for (int d = 0; d < Dim; ++d)
+    cell[d] = layout.cell_voxels()[d] * voxel_size, periodic[d] = scene.periodic[d], cuts[d] = scene.cuts[d];
   const auto box = grid_decomposition<Dim>(cell, periodic, comm.size(), scene.process_grid, cuts).box(comm.rank());
   return voxel_box(box.lo.data(), box.hi.data(), Dim, voxel_size, layout.cell_voxels());
 }
@@ -247,15 +260,29 @@ void build_image_scene(const ImageRequest& request, SceneConfig& scene, const Co
   // Every process reads the header; a file is the same file for all of them.
   const ImageHeader header = read_image_header(request.source);
   const std::string named = "Image/File '" + file + "' (" + shape_of(header) + ")";
-  const ImageLayout layout = checked_layout(request, header, scene);
-  const VoxelBox box = scene.dimension == 2 ? grid_voxel_box<2>(scene, layout, request.voxel_size, comm)
-                                            : grid_voxel_box<3>(scene, layout, request.voxel_size, comm);
-  const auto solid_value = solid_value_table(request.solid_values);
   // The halo follows from the spacing; where the spacing follows from the
   // bottleneck (Spacings Across Throat), or a bottleneck is wider than the
   // halo holds exactly, the pieces are made again with the halo they need.
   long long halo = halo_for(request, scene, request.coarsest_spacing > 0 ? request.coarsest_spacing / request.coarsening
                                                                           : request.voxel_size);
+  // The size the header declares goes to the memory check first, before the
+  // rest of the scene is held against the image: an image too large is
+  // refused for what it is, whatever else is wrong.
+  VoxelBox box;
+  if (header.dimension == scene.dimension) {
+    const ImageLayout asked = image_layout(request, header, scene);
+    on_every_process(comm, [&] {
+      box = header.dimension == 2 ? grid_voxel_box<2>(scene, asked, request.voxel_size, comm)
+                                  : grid_voxel_box<3>(scene, asked, request.voxel_size, comm);
+      ImagePiece piece;
+      const ImageWindow window = piece_window(asked, box, halo, piece);
+      long long voxels = 1;
+      for (const auto& layers : window.source) voxels *= static_cast<long long>(layers.size());
+      piece_memory_check(file, scene, halo, comm)(voxels, shape_of(header));
+    });
+  }
+  const ImageLayout layout = checked_layout(request, header, scene);
+  const auto solid_value = solid_value_table(request.solid_values);
   for (;;) {
     ImagePiece piece;
     on_every_process(comm, [&] {
