@@ -145,7 +145,7 @@ std::vector<float> smoothed_at_voxel_scale(std::vector<double> d, const std::arr
 }
 
 std::vector<float> surface_distance(const VoxelImage& image, const std::vector<int>& solid_values, double voxel_size,
-                                    const std::array<bool, 3>& periodic) {
+                                    const std::array<bool, 3>& periodic, const VoxelFrame* frame) {
   const int dim = image.dimension;
   const auto& shape = image.shape;
   const long long count = image.count();
@@ -173,6 +173,14 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
     index[1] = at / shape[0] % shape[1];
     index[2] = at / (shape[0] * shape[1]);
   };
+  // Where a voxel lies in the cell: the whole image's own index, or a piece's shifted and wrapped.
+  const VoxelFrame cell = frame ? *frame : VoxelFrame{{}, shape, periodic};
+  auto cell_index = [&](const long long (&index)[3], long long (&in_cell)[3]) {
+    for (int d = 0; d < 3; ++d) {
+      const long long c = index[d] + cell.first[d];
+      in_cell[d] = cell.periodic[d] ? (c % cell.shape[d] + cell.shape[d]) % cell.shape[d] : c;
+    }
+  };
 
   // 2. Surface points: where phi crosses 1/2 between two face neighbours,
   //    the crossing by linear interpolation between their centres, with the
@@ -199,11 +207,14 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
       const long long hi = neighbour(at, index, d, 1);
       if (hi < 0 || (phi[at] - 0.5) * (phi[hi] - 0.5) > 0 || phi[at] == phi[hi]) continue;
       const double t = (phi[at] - 0.5) / (phi[at] - phi[hi]);
-      // The point as its offset from the centre of voxel `at`: distances are
-      // then whole voxel offsets less this, the same in any frame of the
-      // voxels (a rank's window of them gives the whole image's bits).
+      // The point in the cell's voxel coordinates (a piece's voxels shifted
+      // to where they lie in the cell), so that a piece computes the whole
+      // image's bits.
       std::array<double, 3> f{}, g_at{}, g_hi{}, u{};
-      f[d] = t;
+      long long in_cell[3];
+      cell_index(index, in_cell);
+      for (int e = 0; e < dim; ++e) f[e] = in_cell[e] + 0.5;
+      f[d] += t;
       gradient_at(at, g_at);
       gradient_at(hi, g_hi);
       double length_sq = 0;
@@ -230,20 +241,20 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
   squared_distance_transform(shape, dim, periodic, site, &nearest);
   std::vector<float> distance(static_cast<size_t>(count));
   for (long long at = 0; at < count; ++at) {
-    long long index[3], centre[3];
+    long long index[3], centre[3], here[3];
     index_of(at, index);
     index_of(nearest[at], centre);
+    cell_index(index, here);
     double best_sq = std::numeric_limits<double>::infinity(), best = 0;
     const int reach[3] = {1, dim > 1 ? 1 : 0, dim > 2 ? 1 : 0};
     for (int k = -reach[2]; k <= reach[2]; ++k)
       for (int j = -reach[1]; j <= reach[1]; ++j)
         for (int i = -reach[0]; i <= reach[0]; ++i) {
-          long long q = 0, apart[3] = {0, 0, 0};  // voxel offsets from q to this voxel
+          long long q = 0;
           bool inside = true;
           const int offset[3] = {i, j, k};
           for (int d = dim - 1; d >= 0; --d) {
             long long c = centre[d] + offset[d];
-            apart[d] = index[d] - c;
             if (c < 0 || c >= shape[d]) {
               if (!periodic[d]) inside = false;
               c = (c % shape[d] + shape[d]) % shape[d];
@@ -255,11 +266,8 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
             const auto& f = foot[point];
             double r[3] = {0, 0, 0}, r_sq = 0, along = 0;
             for (int d = 0; d < dim; ++d) {
-              long long whole = apart[d];
-              if (periodic[d])  // the nearest image, shifted by whole periods before the fraction is taken
-                whole -= shape[d] * static_cast<long long>(
-                                        std::floor((static_cast<double>(whole) - f[d]) / shape[d] + 0.5));
-              r[d] = static_cast<double>(whole) - f[d];
+              r[d] = here[d] + 0.5 - f[d];
+              if (cell.periodic[d]) r[d] -= cell.shape[d] * std::floor(r[d] / cell.shape[d] + 0.5);  // nearest image
               r_sq += r[d] * r[d];
               along += r[d] * normal[point][d];
             }

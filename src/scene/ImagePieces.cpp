@@ -58,6 +58,7 @@ void piece_layers(const ImageLayout& layout, const VoxelBox& box, long long halo
     if (!layout.periodic[d] || d >= layout.dimension) lo[d] = std::max(lo[d], 0LL), hi[d] = std::min(hi[d], n);
     piece.first[d] = lo[d];
     piece.wraps[d] = whole && d < layout.dimension && layout.periodic[d];
+    piece.periodic[d] = layout.periodic[d];
   }
 }
 
@@ -265,7 +266,8 @@ double piece_trusted_distance(long long halo, double voxel_size) {
 
 std::vector<float> piece_surface_distance(const ImagePiece& piece, const std::vector<int>& solid_values,
                                           double voxel_size) {
-  return surface_distance(piece.voxels, solid_values, voxel_size, piece.wraps);
+  const VoxelFrame frame{piece.first, piece.cell, piece.periodic};
+  return surface_distance(piece.voxels, solid_values, voxel_size, piece.wraps, &frame);
 }
 
 bool pieces_percolate(const ImagePiece& piece, const std::vector<char>& open, int axis,

@@ -4,9 +4,9 @@
 // and makes its walls and checks from them. The halo is what makes a piece's
 // walls those of the whole image: the distance field at a voxel depends on
 // the surface near it only, so a piece whose halo reaches past every surface
-// point its box's walls use gives the same values, bit for bit (the surface
-// points are kept as offsets from their voxel, never as positions in the
-// whole image). Percolation is not local: each process labels the pore of
+// point its box's walls use gives the same values, bit for bit (a piece
+// computes its surface points and distances in the whole image's
+// coordinates, geometry/DistanceTransform.hpp). Percolation is not local: each process labels the pore of
 // its box, and the labels are joined across the boxes' faces on one process.
 #include <array>
 #include <string>
@@ -46,6 +46,7 @@ struct ImagePiece {
   std::array<bool, 3> wraps{};          // the piece is the whole of this periodic axis, and wraps as the cell does
   VoxelBox box;                         // the box itself, in the cell's voxels
   std::array<long long, 3> cell{};      // the cell's voxels
+  std::array<bool, 3> periodic{};       // the cell's periodic axes
   int dimension = 2;
 
   // The piece's voxel of the cell's voxel c (unwrapped as `first` is).
