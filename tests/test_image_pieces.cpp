@@ -207,6 +207,7 @@ void compare_pieces_with_whole(const Case& c) {
   in_pieces.image.distance = std::make_shared<const std::vector<float>>(distance);
   in_pieces.image.piece_first = piece.first;
   in_pieces.image.piece_wraps = piece.wraps;
+  in_pieces.image.owned = piece.box;
   const auto expected_seeds = fill_lattice<Dim>(scene, lo, hi);
   const auto seeds = fill_lattice<Dim>(in_pieces, lo, hi);
   ASSERT_EQ(seeds.size(), expected_seeds.size());
@@ -219,6 +220,10 @@ void compare_pieces_with_whole(const Case& c) {
   }
   EXPECT_GT(comm.sum(boundary), 0);
   EXPECT_EQ(seed_differences, 0) << "of " << seeds.size() << " particles";
+
+  // The share of pore narrower than three spacings, counted box by box.
+  const double narrow = 3 * scene.particle_spacing;
+  EXPECT_EQ(pore_fraction_narrower_than(in_pieces, narrow), pore_fraction_narrower_than(scene, narrow));
 
   // Percolation and the widest path's bottleneck over all pieces, along
   // each axis, periodic and bounded along it.

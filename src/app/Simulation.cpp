@@ -98,6 +98,16 @@ bool lagrangian_shifting(const SceneConfig& scene) {
   return scene.particle_motion == ParticleMotion::Lagrangian && scene.shifting_coefficient > 0;
 }
 
+namespace {
+template <int Dim>
+bool same_boxes(const Decomposition<Dim>& a, const Decomposition<Dim>& b) {
+  if (a.ranks() != b.ranks()) return false;
+  for (int r = 0; r < a.ranks(); ++r)
+    if (a.box(r).lo != b.box(r).lo || a.box(r).hi != b.box(r).hi) return false;
+  return true;
+}
+}  // namespace
+
 template <int Dim>
 Decomposition<Dim> decompose(const SceneConfig& scene, int ranks) {
   std::array<double, Dim> cell{};
@@ -130,6 +140,13 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d];
     decomposition = Decomposition<Dim>(boxes, cell, periodic);
     decomposition.check(comm_.size());
+    // An image is held in the pieces of the process grid's boxes: boxes of
+    // another decomposition (a checkpoint of RCB's) would put particles
+    // beyond their process's piece.
+    if (scene.image.voxels && !same_boxes(decomposition, decompose<Dim>(scene, comm_.size())))
+      throw std::invalid_argument(
+          "the sub-domains given (a checkpoint's) are not the process grid an image scene is divided by: continue "
+          "the run on another number of processes, which divides the cell anew");
   } else {
     // An image is held in the pieces of the process grid's boxes (scene/ImageScene.hpp).
     decomposition = scene.grid_decomposition || scene.image.voxels ? decompose<Dim>(scene, comm_.size())

@@ -65,7 +65,19 @@ blobs.write(solid, "blobs.h5", dataset="/scan/segmented")
 for image, dataset in (("blobs.raw", "/image"), ("blobs.h5", "/scan/segmented")):
     with open(image + ".xml", "w") as f:
         f.write(blobs.scene_xml(image, image + ".xml", [40, 32, 24], 1e-3, 1e-3, "pieces", dataset))
-keys = ("fluid_particles", "boundary_particles", "porosity")
+keys = ("fluid_particles", "boundary_particles", "porosity", "warnings")
+
+
+def same(key, a, b):
+    """The summaries agree on key; warnings name the file, which differs between the raw and HDF5 scenes."""
+    if key not in a or key not in b:
+        return False
+    if key == "warnings":
+        return [re.sub(r"Image/File '[^']*'", "Image/File", w) for w in a[key]] == \
+               [re.sub(r"Image/File '[^']*'", "Image/File", w) for w in b[key]]
+    return a[key] == b[key]
+
+
 steps = ["Run/Max Steps=30", "Permeability/Steady Tolerance=0"]
 done, whole = run(1, "blobs.raw.xml", "whole", *steps)
 check("3D raw on one process runs", done.returncode == 0 and whole.get("steps") == 30)
@@ -74,7 +86,7 @@ for ranks in (2, 4):
     check(f"3D HDF5 on {ranks} processes runs", done.returncode == 0 and pieces.get("steps") == 30)
     for key in keys:
         check(f"3D on {ranks} processes: {key} as on one ({whole.get(key)})",
-              key in whole and pieces.get(key) == whole.get(key), str(pieces.get(key)))
+              same(key, pieces, whole), str(pieces.get(key)))
     k, k_whole = pieces.get("permeability", {}).get("kxx"), whole.get("permeability", {}).get("kxx")
     check(f"3D on {ranks} processes: kxx after 30 steps as on one to 1e-12 ({k_whole})",
           k is not None and k_whole is not None and abs(k - k_whole) <= 1e-12 * abs(k_whole), str(k))
@@ -91,7 +103,7 @@ done, pieces = run(3, "plane.xml", "plane-pieces", *mirrored)
 check("2D mirrored on three processes runs", done.returncode == 0 and pieces.get("steps") == 30)
 for key in keys:
     check(f"2D mirrored on three processes: {key} as on one ({whole.get(key)})",
-          key in whole and pieces.get(key) == whole.get(key), str(pieces.get(key)))
+          same(key, pieces, whole), str(pieces.get(key)))
 # k is a sum over the processes' particles, added in another order on another count of them.
 k, k_whole = pieces.get("permeability", {}), whole.get("permeability", {})
 check(f"2D mirrored on three processes: k after 30 steps as on one to 1e-12 of kxx ({k_whole})",
