@@ -186,8 +186,8 @@ void compare_pieces_with_whole(const Case& c) {
   const double band = shell + reach * voxel;
   long long compared = 0, differing = 0;
   std::array<long long, 3> at{};
-  const std::array<long long, 3> from{{box.lo[0] - reach, Dim > 1 ? box.lo[1] - reach : 0, Dim > 2 ? box.lo[2] - reach : 0}};
-  const std::array<long long, 3> to{{box.hi[0] + reach, Dim > 1 ? box.hi[1] + reach : 1, Dim > 2 ? box.hi[2] + reach : 1}};
+  std::array<long long, 3> from{{0, 0, 0}}, to{{1, 1, 1}};
+  for (int d = 0; d < Dim; ++d) from[d] = box.lo[d] - reach, to[d] = box.hi[d] + reach;
   for (at[2] = from[2]; at[2] < to[2]; ++at[2])
     for (at[1] = from[1]; at[1] < to[1]; ++at[1])
       for (at[0] = from[0]; at[0] < to[0]; ++at[0]) {
@@ -216,7 +216,8 @@ void compare_pieces_with_whole(const Case& c) {
     boundary += seeds[p].kind == kSampledBoundary;
     seed_differences += seeds[p].id != expected_seeds[p].id || seeds[p].kind != expected_seeds[p].kind ||
                         seeds[p].wall_scalar != expected_seeds[p].wall_scalar ||
-                        std::memcmp(seeds[p].wall_vector, expected_seeds[p].wall_vector, sizeof seeds[p].wall_vector) != 0;
+                        std::memcmp(seeds[p].wall_vector, expected_seeds[p].wall_vector,
+                                    sizeof seeds[p].wall_vector) != 0;
   }
   EXPECT_GT(comm.sum(boundary), 0);
   EXPECT_EQ(seed_differences, 0) << "of " << seeds.size() << " particles";

@@ -57,14 +57,19 @@ class Communicator {
     MPI_Exscan(&x, &r, 1, MPI_LONG_LONG, MPI_SUM, comm_);
     return rank_ == 0 ? 0 : r;
   }
-  // Every rank's values, concatenated in rank order, on rank 0 (empty elsewhere).
+  // Every rank's values, concatenated in rank order, on rank 0 (empty
+  // elsewhere); at most 2^31 - 1 of them in all, MPI counting in int.
   std::vector<long long> gather(const std::vector<long long>& values) const {
     const long long count = static_cast<long long>(values.size());
     std::vector<long long> counts(size_);
     MPI_Gather(&count, 1, MPI_LONG_LONG, counts.data(), 1, MPI_LONG_LONG, 0, comm_);
     std::vector<int> lengths(size_), offsets(size_, 0);
     long long total = 0;
-    for (int r = 0; r < size_; ++r) lengths[r] = static_cast<int>(counts[r]), offsets[r] = static_cast<int>(total), total += counts[r];
+    for (int r = 0; r < size_; ++r) {
+      lengths[r] = static_cast<int>(counts[r]);
+      offsets[r] = static_cast<int>(total);
+      total += counts[r];
+    }
     std::vector<long long> all(rank_ == 0 ? static_cast<size_t>(total) : 0);
     MPI_Gatherv(values.data(), static_cast<int>(count), MPI_LONG_LONG, all.data(), lengths.data(), offsets.data(),
                 MPI_LONG_LONG, 0, comm_);

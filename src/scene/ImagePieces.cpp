@@ -86,9 +86,9 @@ struct BoxLabels {
 BoxLabels label_box(const ImagePiece& piece, const BoxInPiece& b, const std::vector<char>& open) {
   BoxLabels out;
   out.label.assign(static_cast<size_t>(b.total), -1);
+  const auto& shape = piece.voxels.shape;
   auto piece_index = [&](const long long (&c)[3]) {
-    return static_cast<size_t>((b.first[0] + c[0]) +
-                               piece.voxels.shape[0] * ((b.first[1] + c[1]) + piece.voxels.shape[1] * (b.first[2] + c[2])));
+    return static_cast<size_t>((b.first[0] + c[0]) + shape[0] * ((b.first[1] + c[1]) + shape[1] * (b.first[2] + c[2])));
   };
   auto coordinates = [&](long long n, long long (&c)[3]) {
     c[0] = n % b.count[0];
@@ -278,7 +278,9 @@ bool pieces_percolate(const ImagePiece& piece, const std::vector<char>& open, in
   const long long offset = comm.sum_before(local.labels);
   const long long labels = comm.sum(static_cast<long long>(local.labels));
   std::vector<long long> faces, crossings, ends;
-  auto cell_index = [&](const std::array<long long, 3>& c) { return c[0] + piece.cell[0] * (c[1] + piece.cell[1] * c[2]); };
+  auto cell_index = [&](const std::array<long long, 3>& c) {
+    return c[0] + piece.cell[0] * (c[1] + piece.cell[1] * c[2]);
+  };
   for (long long n = 0; n < b.total; ++n) {
     const int label = local.label[n];
     if (label < 0) continue;
