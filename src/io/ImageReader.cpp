@@ -478,9 +478,4 @@ VoxelImage take_window(const VoxelImage& image, const ImageWindow& window) {
   return out;
 }
 
-bool is_hdf5_image(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  return ext == ".h5" || ext == ".hdf5";
-}
-
 }  // namespace poresph

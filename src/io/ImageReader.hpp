@@ -89,7 +89,4 @@ VoxelImage read_hdf5(const std::string& path, const std::string& dataset, const 
 // The window cut from an image already held (x, y, z layers of `image`).
 VoxelImage take_window(const VoxelImage& image, const ImageWindow& window);
 
-// Whether the name ends in .h5 or .hdf5 (any case).
-bool is_hdf5_image(const std::string& path);
-
 }  // namespace poresph
