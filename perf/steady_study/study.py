@@ -18,6 +18,8 @@ Methods:
   sa               DG alone: GMRES unpreconditioned, with the wide (stride-2) compact Laplacian, and
                    with smoothed aggregation on modulated near-null vectors (--block, default 4)
   lsc-sa           as lsc, (DG)^-1 by GMRES with that smoothed aggregation to --inner-tol
+  newton           --newton-steps of Newton with the Jacobian at rest, the rates at each state from
+                   --exporter on --scene with --set PATH=VALUE...; k and the residual after each step
   modes            the --modes weakest eigenmodes of DG against the compact Laplacian (dense, 2D):
                    their energy near each corner of the Brillouin zone and next to walls
   stabilised       pressure stabilisation beta T (T: compact Laplacian): k shift, and
@@ -448,12 +450,19 @@ def method_inner(system, args):
         print(f"  {label}: {its} iterations, residual {hist[-1]:.1e}, {time.time() - t:.1f} s")
 
 
-def modulated_vectors(system):
+def modulated_vectors(system, edges=False):
     """The constant and the lattice's sign patterns (-1)^(m . i), m in {0,1}^d without 0.
     The SPH gradient vanishes at the corners of the Brillouin zone, so DG's weakest modes
-    are these patterns times smooth functions (2^d near-null vectors, not one)."""
+    are these patterns times smooth functions (2^d near-null vectors, not one). With edges
+    (3D), also the patterns of two axes times cos and sin(pi i_q / 2) along the third: the
+    middle of the zone's edges, where 3D has weak modes too."""
     patterns = [np.array(m) for m in np.ndindex(*(2,) * system.dim) if any(m)]
-    return np.column_stack([np.ones(system.n)] + [1.0 - 2.0 * ((system.lattice @ m) % 2) for m in patterns])
+    vectors = [np.ones(system.n)] + [1.0 - 2.0 * ((system.lattice @ m) % 2) for m in patterns]
+    if edges:
+        for q in range(system.dim):
+            sign = 1.0 - 2.0 * (np.delete(system.lattice, q, axis=1).sum(1) % 2)
+            vectors += [sign * np.cos(np.pi * system.lattice[:, q] / 2), sign * np.sin(np.pi * system.lattice[:, q] / 2)]
+    return np.column_stack(vectors)
 
 
 def wide_laplacian(system):
@@ -544,12 +553,12 @@ class SmoothedAggregation:
         return x
 
 
-def dg_multigrid(system, DG, block):
+def dg_multigrid(system, DG, block, edges=False):
     """SA for DG, with the sign that makes its diagonal positive; returns the
     preconditioner r -> DG^-1 r (approximately, mean-free) and the hierarchy."""
     sign = 1.0 if DG.diagonal().mean() > 0 else -1.0
     t = time.time()
-    hierarchy = SmoothedAggregation(sign * DG, system.lattice, modulated_vectors(system), block)
+    hierarchy = SmoothedAggregation(sign * DG, system.lattice, modulated_vectors(system, edges), block)
     setup = time.time() - t
 
     def apply(r):  # the mean of r out first: 36 rather than 45 iterations at 0.02 L
@@ -563,7 +572,7 @@ def method_sa(system, args):
     DG, _ = dg_operators(system)
     DG = DG.tocsr()
     b = DG @ np.random.default_rng(1).standard_normal(system.n)  # in the range of DG
-    multigrid, hierarchy, setup = dg_multigrid(system, DG, args.block)
+    multigrid, hierarchy, setup = dg_multigrid(system, DG, args.block, args.edges)
     L = wide_laplacian(system)
     smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
     scale = (smooth @ (DG @ smooth)) / (smooth @ (L @ smooth))
@@ -580,7 +589,7 @@ def method_sa(system, args):
 def method_lsc_sa(system, args):
     DG, DAG = dg_operators(system)
     DG = DG.tocsr()
-    multigrid, hierarchy, setup = dg_multigrid(system, DG, args.block)
+    multigrid, hierarchy, setup = dg_multigrid(system, DG, args.block, args.edges)
     in_range = DgRange(DG)
     count = {"DG": 0, "cycles": 0}
 
@@ -634,6 +643,32 @@ def method_modes(system, args):
               + f", on points next to a wall {weight[distance <= 1].sum():.2f}")
 
 
+def method_newton(system, args):
+    """Newton with the Jacobian at the start state (frozen), each step's bordered system solved
+    directly; the rates at each new state come from the exporter (STATE=FILE) run on --scene
+    with --set. Reports k after each step and the residual up to a uniform density drift."""
+    import os
+    import subprocess
+    import tempfile
+    lu = spla.splu(system.Jb.tocsc())
+    u = np.zeros(system.Jb.shape[0] - 1)
+    residual = system.R0
+    with tempfile.TemporaryDirectory() as scratch:
+        state, out = os.path.join(scratch, "state.txt"), os.path.join(scratch, "out")
+        for step in range(args.newton_steps + 1):
+            steady = residual.copy()
+            steady[system.density] -= residual[system.density].mean()  # the drift the border allows
+            print(f"  Newton step {step}: k {permeability(system.info, u):.7e}, "
+                  f"|R up to a uniform drift| / |R0| {np.linalg.norm(steady) / np.linalg.norm(system.R0):.1e}")
+            if step == args.newton_steps:
+                return
+            u = u + lu.solve(np.append(-residual, 0.0))[:-1]
+            np.savetxt(state, u)
+            subprocess.run([args.exporter, args.scene, out] + args.set, check=True, capture_output=True,
+                           env=dict(os.environ, STATE=state))
+            residual = np.loadtxt(out + "_Rstate.txt")
+
+
 METHODS = {
     "direct": method_direct,
     "lsc": method_lsc,
@@ -647,6 +682,7 @@ METHODS = {
     "sa": method_sa,
     "lsc-sa": method_lsc_sa,
     "modes": method_modes,
+    "newton": method_newton,
 }
 
 
@@ -663,6 +699,11 @@ def main():
                         help="Schwarz blocks (default 8) or aggregates (default 4), in lattice points a side")
     parser.add_argument("--overlap", type=int, default=4)
     parser.add_argument("--modes", type=int, default=12)
+    parser.add_argument("--newton-steps", type=int, default=4)
+    parser.add_argument("--scene", help="newton: the scene the Jacobian was exported from")
+    parser.add_argument("--set", nargs="*", default=[], help="newton: the exporter's overrides, PATH=VALUE")
+    parser.add_argument("--exporter", default="build/perf/steady_study/poresph_export_jacobian")
+    parser.add_argument("--edges", action="store_true", help="sa, lsc-sa: the edge patterns too (3D)")
     parser.add_argument("--no-reference", action="store_true",
                         help="skip the direct solution (k is then not compared; for sa and inner)")
     parser.add_argument("--coarse", help="PREFIX of the same scene at twice the spacing (two-grid)")
