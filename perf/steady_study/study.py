@@ -20,7 +20,7 @@ Methods:
   lsc-sa           as lsc, (DG)^-1 by GMRES with that smoothed aggregation to --inner-tol
   newton           --newton-steps of Newton with the Jacobian at rest, the rates at each state from
                    --exporter on --scene with --set PATH=VALUE...; k and the residual after each step
-  modes            the --modes weakest eigenmodes of DG against the compact Laplacian (dense, 2D):
+  modes            the --modes weakest eigenmodes of DG against the compact Laplacian (dense):
                    their energy near each corner of the Brillouin zone and next to walls
   stabilised       pressure stabilisation beta T (T: compact Laplacian): k shift, and
                    FGMRES on the stabilised and true systems with Schur s I + beta T
@@ -614,7 +614,7 @@ def method_lsc_sa(system, args):
 def method_modes(system, args):
     """The weakest generalised eigenmodes of DG against the compact Laplacian (dense: small
     scenes only): where in the Brillouin zone their energy lies, and how much of it sits on
-    the fluid points next to a wall. 2D."""
+    the fluid points next to a wall."""
     import scipy.linalg
     from scipy.ndimage import distance_transform_edt
     DG, _ = dg_operators(system)
