@@ -501,14 +501,18 @@ class SmoothedAggregation:
     fall in one block of block^d; the tentative prolongator is the QR of the near-null
     vectors on each aggregate (their R rows are the next level's near-null vectors), smoothed
     once by damped Jacobi; the coarse operator is P^T A P. V(2,2) cycles with damped Jacobi
-    (weight 4/3 over the spectral radius of D^-1 A), LU below `coarsest` unknowns."""
+    (weight 4/3 over the spectral radius of D^-1 A), or V(1,1) with a forward Gauss-Seidel
+    sweep before and a backward one after; LU below `coarsest` unknowns."""
 
-    def __init__(self, A, coordinates, vectors, block=4, coarsest=300):
+    def __init__(self, A, coordinates, vectors, block=4, coarsest=300, gauss_seidel=False):
         self.levels = []
+        self.gauss_seidel = gauss_seidel
         while True:
             level = {"A": A.tocsr()}
             level["inverse_diagonal"] = 1.0 / level["A"].diagonal()
             level["weight"] = 4.0 / 3.0 / jacobi_spectral_radius(level["A"], level["inverse_diagonal"])
+            if gauss_seidel:
+                level["lower"], level["upper"] = sp.tril(A, format="csr"), sp.triu(A, format="csr")
             self.levels.append(level)
             if A.shape[0] <= coarsest:
                 shift = 1e-12 * abs(A.diagonal()).max()
@@ -544,6 +548,10 @@ class SmoothedAggregation:
         if "lu" in level:
             return level["lu"].solve(b)
         A, smooth = level["A"], level["weight"] * level["inverse_diagonal"]
+        if self.gauss_seidel:
+            x = spla.spsolve_triangular(level["lower"], b, lower=True)
+            x += level["P"] @ self.cycle(level["R"] @ (b - A @ x), depth + 1)
+            return x + spla.spsolve_triangular(level["upper"], b - A @ x, lower=False)
         x = smooth * b
         for _ in range(sweeps - 1):
             x += smooth * (b - A @ x)
@@ -553,12 +561,13 @@ class SmoothedAggregation:
         return x
 
 
-def dg_multigrid(system, DG, block, edges=False):
+def dg_multigrid(system, DG, block, edges=False, gauss_seidel=False):
     """SA for DG, with the sign that makes its diagonal positive; returns the
     preconditioner r -> DG^-1 r (approximately, mean-free) and the hierarchy."""
     sign = 1.0 if DG.diagonal().mean() > 0 else -1.0
     t = time.time()
-    hierarchy = SmoothedAggregation(sign * DG, system.lattice, modulated_vectors(system, edges), block)
+    hierarchy = SmoothedAggregation(sign * DG, system.lattice, modulated_vectors(system, edges), block,
+                                    gauss_seidel=gauss_seidel)
     setup = time.time() - t
 
     def apply(r):  # the mean of r out first: 36 rather than 45 iterations at 0.02 L
@@ -572,7 +581,7 @@ def method_sa(system, args):
     DG, _ = dg_operators(system)
     DG = DG.tocsr()
     b = DG @ np.random.default_rng(1).standard_normal(system.n)  # in the range of DG
-    multigrid, hierarchy, setup = dg_multigrid(system, DG, args.block, args.edges)
+    multigrid, hierarchy, setup = dg_multigrid(system, DG, args.block, args.edges, args.gauss_seidel)
     L = wide_laplacian(system)
     smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
     scale = (smooth @ (DG @ smooth)) / (smooth @ (L @ smooth))
@@ -580,7 +589,8 @@ def method_sa(system, args):
     print(f"  smoothed aggregation: levels {hierarchy.sizes()}, set-up {setup:.1f} s")
     for label, M in [("DG, none", lambda r: r),
                      ("DG, wide Laplacian (exact)", lambda r: wide_lu.solve(r) / scale),
-                     ("DG, smoothed aggregation V(2,2)", multigrid)]:
+                     ("DG, smoothed aggregation " + ("V(1,1) Gauss-Seidel" if args.gauss_seidel else "V(2,2)"),
+                      multigrid)]:
         t = time.time()
         _, its, hist = fgmres(lambda y: DG @ y, b, M, args.tol, args.maxit)
         print(f"  {label}: {its} iterations, residual {hist[-1]:.1e}, {time.time() - t:.1f} s")
@@ -589,7 +599,7 @@ def method_sa(system, args):
 def method_lsc_sa(system, args):
     DG, DAG = dg_operators(system)
     DG = DG.tocsr()
-    multigrid, hierarchy, setup = dg_multigrid(system, DG, args.block, args.edges)
+    multigrid, hierarchy, setup = dg_multigrid(system, DG, args.block, args.edges, args.gauss_seidel)
     in_range = DgRange(DG)
     count = {"DG": 0, "cycles": 0}
 
@@ -704,6 +714,7 @@ def main():
     parser.add_argument("--set", nargs="*", default=[], help="newton: the exporter's overrides, PATH=VALUE")
     parser.add_argument("--exporter", default="build/perf/steady_study/poresph_export_jacobian")
     parser.add_argument("--edges", action="store_true", help="sa, lsc-sa: the edge patterns too (3D)")
+    parser.add_argument("--gauss-seidel", action="store_true", help="sa, lsc-sa: V(1,1) Gauss-Seidel cycles")
     parser.add_argument("--no-reference", action="store_true",
                         help="skip the direct solution (k is then not compared; for sa and inner)")
     parser.add_argument("--coarse", help="PREFIX of the same scene at twice the spacing (two-grid)")
