@@ -152,8 +152,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
       comm_(comm),
       derived_(derive_parameters(scene)),
       particles_(scene.walls != WallType::None || scene.has_solid(), lagrangian_shifting(scene)),
-      kernel_(derived_.smoothing_length),
-      pair_sums_(RateComponents<Dim>::count(lagrangian_shifting(scene))) {
+      kernel_(derived_.smoothing_length) {
   if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
   fixed_ = scene.particle_motion == ParticleMotion::Fixed;
   convection_ = fixed_ && scene.convection;
@@ -197,6 +196,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   pair_options_.convection = convection_;
   extrapolate_walls_ = particles_.has_surfaces && scene.wall_pressure == WallPressure::Extrapolated;
   pair_options_.wall_continuity = !extrapolate_walls_;
+  pair_sums_ = PairSums<ExecSpace>(pair_sum_components<Dim, ExecSpace>(particles_, pair_options_));
   check_grains(scene.grains, scene);
   solid_map_ = make_solid_map<Dim, MemorySpace>(scene, kernel_.cutoff);
 
