@@ -83,10 +83,24 @@ class Simulation {
   // step (positions, velocities, densities; the rates are not kept).
   void rewind_failed_step();
 
-  // One predictor-corrector step of size time_step().
+  // One predictor-corrector step of size time_step(): the scene's stages
+  // (step_stages()) in order.
   void step();
-  // Re-evaluates the rates at the current state (after the state was edited).
+  // The rates dv/dt and d rho/dt (and the wall drag, the shifting) of the
+  // current state, without advancing time: pressures, ghosts and lists
+  // brought to the state, the wall pressure, the pair loop and its finish.
+  // The entry point for anything that needs the rates of a state it made
+  // (after editing velocities or densities; a steady solver).
   void compute_rates();
+
+  // A step is a named sequence of stages, each a member function; which a
+  // scene has is decided once, at construction (make_step_stages): a new
+  // stage (rigid-body motion, say) is one member function and one line there.
+  struct StepStage {
+    std::string name;  // also the Kokkos profiling region around it
+    void (Simulation::*run)();
+  };
+  const std::vector<StepStage>& step_stages() const { return step_stages_; }
 
   double time() const { return time_; }
   long long steps() const { return steps_; }
@@ -154,8 +168,11 @@ class Simulation {
  private:
   // Pressure of owned particles, then ghosts at the current positions: a
   // fresh halo, cell list and neighbour list if some particle moved more than
-  // half the skin since the last build, otherwise the ghosts updated in place.
+  // half the skin since the last build, otherwise the ghosts updated in place;
+  // then the wall pressure (update_wall_pressure).
   void refresh_neighbourhood();
+  // The same without the wall pressure.
+  void refresh_neighbourhood_only();
   // Pressure of owned particles, then the ghosts' changing fields along the recorded routes.
   void update_pressure_and_ghosts();
   // With an extrapolated wall pressure: the owned boundary particles' from
@@ -164,6 +181,17 @@ class Simulation {
   // What rests on a fresh neighbourhood: the cached pair geometry of fixed
   // particles, the boundary particles' fluid neighbours, room for the sums.
   void built_neighbourhood();
+  // The stages of a step, in order (step_stages()).
+  void make_step_stages();
+  void predict_stage();          // "predict": to the mid-point with the old rates
+  void neighbourhood_stage();    // "neighbourhood": pressures, ghosts, lists at the mid-point
+  void wall_pressure_stage();    // "wall pressure": boundary pressures from the fluid
+  void pair_rates_stage();       // "pair rates": the pair loop
+  void finish_stage();           // "finish": the sums into rates, the body force
+  void correct_stage();          // "correct": the full step with the mid-point rates
+  void constraints_stage();      // "constraints": shifting, particles put back out of grains
+  void check_stage();            // "check": the clock, and the step's health
+  void resummation_stage();      // "density resummation": every Density Resummation Interval steps
   // Stops the run if the step left a particle count change or an unhealthy
   // particle; known_healthy: the corrector found none here (only the count
   // is left to check).
@@ -199,6 +227,11 @@ class Simulation {
   double reference_pressure_ = 0.0;
   HealthLimits health_limits_{};
   bool poison_next_step_ = false;
+  std::vector<StepStage> step_stages_;
+  // Within a step: whether the corrector checked the particles it wrote,
+  // and how many it found unhealthy.
+  bool corrector_checks_ = false;
+  long long corrector_unhealthy_ = 0;
   long long fluid_count_ = 0, total_count_ = 0;
   double time_ = 0.0;
   long long steps_ = 0;
