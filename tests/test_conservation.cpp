@@ -168,8 +168,17 @@ TYPED_TEST(Conservation, PressureForcesConserveAngularMomentum) {
   }
 }
 
-// The pair loop forms both ends of a fluid pair at once
-// (FluidPairWeights in physics/PairDriver.hpp); each particle's rates must be the sums of
+// A particle of a cluster in [0.2, 0.8]^2: small random velocity, density and mass.
+inline void scatter_in_square(std::mt19937& rng, double* x, double* v, double& rho, double& m) {
+  std::uniform_real_distribution<double> u(0, 1);
+  x[0] = 0.2 + 0.6 * u(rng), x[1] = 0.2 + 0.6 * u(rng);
+  v[0] = 0.1 * (u(rng) - 0.5), v[1] = 0.1 * (u(rng) - 0.5);
+  rho = 1.0 + 0.05 * u(rng);
+  m = 1e-3 * (1 + 0.1 * u(rng));
+}
+
+// The pair loop forms both ends of a fluid pair at once (FluidPairWeights
+// in physics/PairDriver.hpp); each particle's rates must be the sums of
 // the per-end terms of physics/PairTerms.hpp over all its neighbours,
 // convection included: a brute-force double loop on random particles.
 TYPED_TEST(Conservation, PairLoopRatesAreTheSumsOfThePerEndTerms) {
@@ -177,13 +186,7 @@ TYPED_TEST(Conservation, PairLoopRatesAreTheSumsOfThePerEndTerms) {
   const Space space;
   const int n = 300;
   const double nu = 0.01;
-  std::uniform_real_distribution<double> u(0, 1);
-  FluidCluster<Space> cluster(space, n, 0.05, 5, [&](std::mt19937& rng, double* x, double* v, double& rho, double& m) {
-    x[0] = 0.2 + 0.6 * u(rng), x[1] = 0.2 + 0.6 * u(rng);
-    v[0] = 0.1 * (u(rng) - 0.5), v[1] = 0.1 * (u(rng) - 0.5);
-    rho = 1.0 + 0.05 * u(rng);
-    m = 1e-3 * (1 + 0.1 * u(rng));
-  });
+  FluidCluster<Space> cluster(space, n, 0.05, 5, scatter_in_square);
   const auto &P = cluster.P, &x = cluster.x, &v = cluster.v, &rho = cluster.rho, &m = cluster.m;
   const auto& kernel = cluster.kernel;
   PairLoopOptions options;
@@ -249,13 +252,7 @@ TYPED_TEST(Conservation, AnotherPairTermIsOneStructInTheList) {
   using Space = TypeParam;
   const Space space;
   const int n = 300;
-  std::uniform_real_distribution<double> u(0, 1);
-  FluidCluster<Space> cluster(space, n, 0.05, 7, [&](std::mt19937& rng, double* x, double* v, double& rho, double& m) {
-    x[0] = 0.2 + 0.6 * u(rng), x[1] = 0.2 + 0.6 * u(rng);
-    v[0] = 0.1 * (u(rng) - 0.5), v[1] = 0.1 * (u(rng) - 0.5);
-    rho = 1.0 + 0.05 * u(rng);
-    m = 1e-3 * (1 + 0.1 * u(rng));
-  });
+  FluidCluster<Space> cluster(space, n, 0.05, 7, scatter_in_square);
   const auto &P = cluster.P, &x = cluster.x, &m = cluster.m;
   const FluidProperties fluid{0.01, 0.0};
   const PairLoopOptions options;

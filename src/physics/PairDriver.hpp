@@ -107,20 +107,6 @@ struct SeenVelocity {
   Vec<Dim> v;
 };
 
-// sum += term and s * v, force-inlined: in the pair loop, already as large
-// as GCC 12 inlines, Vec's operators were left as calls, and what they
-// added to went through memory.
-template <int Dim>
-KOKKOS_FORCEINLINE_FUNCTION void accumulate(Vec<Dim>& sum, const Vec<Dim>& term) {
-  for (int d = 0; d < Dim; ++d) sum.c[d] += term.c[d];
-}
-template <int Dim>
-KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> scaled(double s, const Vec<Dim>& v) {
-  Vec<Dim> result;
-  for (int d = 0; d < Dim; ++d) result.c[d] = s * v.c[d];
-  return result;
-}
-
 // Both ends of a pair of fluid particles at once: each end's acceleration is
 // a weight of r_ab and a weight of v_ab, which the terms add to, so that the
 // pair's terms are formed once instead of once per end with their signs
@@ -290,8 +276,10 @@ struct PairDriver : Terms... {
     int kind = kFluid;
     if constexpr (Surfaces) kind = P.kind(i);
     const bool uniform = uniform_mass > 0;  // two arrays fewer to gather from
-    return {row<Dim>(P.x, i), row<Dim>(P.v, i), uniform ? uniform_mass : P.m(i),
-            uniform ? uniform_inverse_density : P.inverse_density(i), P.pressure_term(i), kind, i};
+    PairEnd<Dim> end{{}, {}, uniform ? uniform_mass : P.m(i), uniform ? uniform_inverse_density : P.inverse_density(i),
+                     P.pressure_term(i), kind, i};
+    for (int d = 0; d < Dim; ++d) end.x.c[d] = P.x(i, d), end.v.c[d] = P.v(i, d);
+    return end;
   }
 
   // Adds to `sum` what `self` gains from `other`: the terms that act on
@@ -363,7 +351,7 @@ struct PairDriver : Terms... {
     if (a_takes) add(sum_a, end_a, end_b, EndGeometry<Dim>{r, v, F, 1.0}, entry, shared);
     if (b_takes) {
       Sums sum_b;
-      add(sum_b, end_b, end_a, EndGeometry<Dim>{scaled(-1.0, r), scaled(-1.0, v), F, -1.0}, entry, shared);
+      add(sum_b, end_b, end_a, EndGeometry<Dim>{-1.0 * r, -1.0 * v, F, -1.0}, entry, shared);
       for (int c = 0; c < Sums::count; ++c) sums.add(copy, b, c, sum_b.value[c]);
     }
   }

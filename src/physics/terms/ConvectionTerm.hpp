@@ -21,7 +21,7 @@ struct ConvectionTerm : PairTermBase {
   KOKKOS_FORCEINLINE_FUNCTION void add_to_end(const PairEnd<Dim>& self, const PairEnd<Dim>& other,
                                               const EndGeometry<Dim>& g, const SeenVelocity<Dim>& seen, const Shared&,
                                               Sums&, Vec<Dim>& acceleration) const {
-    accumulate(acceleration, convective_acceleration(other.m * other.inverse_density, self.v, seen.v, g.r, g.F));
+    acceleration += convective_acceleration(other.m * other.inverse_density, self.v, seen.v, g.r, g.F);
   }
   // a's weight of v_ab is V_b F (v_a . r_ab), b's V_a F (v_b . r_ab).
   KOKKOS_FORCEINLINE_FUNCTION void add_to_fluid_pair(const PairEnd<Dim>& a, const PairEnd<Dim>& b, const Vec<Dim>& r,

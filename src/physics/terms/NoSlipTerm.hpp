@@ -45,7 +45,7 @@ struct NoSlipTerm : PairTermBase {
     seen.factor = cached_no_slip && entry >= 0
                       ? no_slip.factor(entry)
                       : no_slip_factor_seen(P, self.index, other.index, other.kind, g.r, min_surface_distance);
-    seen.v = scaled(seen.factor, g.v);
+    seen.v = seen.factor * g.v;
   }
 
   struct Shared {
@@ -66,9 +66,9 @@ struct NoSlipTerm : PairTermBase {
       // other.m viscous factor (v_self - v_other) = -kappa (v_self - v_other)
       const double kappa = -other.m * pair.viscous_weight * seen.factor;
       sum.value[Own] += kappa;  // the wall drag
-      accumulate(acceleration, scaled(kappa, other.v));
+      acceleration += kappa * other.v;
     } else {
-      accumulate(acceleration, scaled(other.m * pair.viscous_weight, seen.v));
+      acceleration += (other.m * pair.viscous_weight) * seen.v;
     }
   }
 

@@ -24,7 +24,7 @@ struct PressureTerm : PairTermBase {
   KOKKOS_FORCEINLINE_FUNCTION void add_to_end(const PairEnd<Dim>&, const PairEnd<Dim>& other,
                                               const EndGeometry<Dim>& g, const SeenVelocity<Dim>&, const Shared& pair,
                                               Sums&, Vec<Dim>& acceleration) const {
-    accumulate(acceleration, scaled(other.m * g.sign, pair.acceleration));
+    acceleration += (other.m * g.sign) * pair.acceleration;
   }
   KOKKOS_FORCEINLINE_FUNCTION void add_to_fluid_pair(const PairEnd<Dim>& a, const PairEnd<Dim>& b, const Vec<Dim>&,
                                                      const Vec<Dim>&, double F, FluidPairWeights& w) const {

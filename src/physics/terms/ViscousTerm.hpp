@@ -28,7 +28,7 @@ struct ViscousTerm : PairTermBase {
                                               const SeenVelocity<Dim>& seen, const Shared& pair, Sums&,
                                               Vec<Dim>& acceleration) const {
     if (other.kind != kFluid) return;
-    accumulate(acceleration, scaled(other.m * pair.weight, seen.v));
+    acceleration += (other.m * pair.weight) * seen.v;
   }
   KOKKOS_FORCEINLINE_FUNCTION void add_to_fluid_pair(const PairEnd<Dim>& a, const PairEnd<Dim>& b, const Vec<Dim>&,
                                                      const Vec<Dim>&, double F, FluidPairWeights& w) const {
