@@ -90,7 +90,9 @@ class Simulation {
   // current state, without advancing time: pressures, ghosts and lists
   // brought to the state, the wall pressure, the pair loop and its finish.
   // The entry point for anything that needs the rates of a state it made
-  // (after editing velocities or densities; a steady solver).
+  // (after editing velocities or densities; a steady solver). With a wall
+  // drag kept apart (fixed particles next to surfaces), a fluid particle's
+  // dv/dt is dvdt - wall_drag v.
   void compute_rates();
 
   // A step is a named sequence of stages, each a member function; which a
