@@ -168,19 +168,21 @@ def write(solid, path, dataset="/image"):
         raise SystemExit(f"{path}: unknown format (raw, tif, png, h5, npy)")
 
 
-def scene_xml(image_path, scene_path, shape, voxel, steady_tolerance, name):
+def scene_xml(image_path, scene_path, shape, voxel, steady_tolerance, name, dataset="/image"):
     """A PoreSPH scene for the image: one particle per voxel, nu = 1e-6, creeping flow along x."""
     dim = len(shape)
     ext = os.path.splitext(image_path)[1].lower()
-    if ext not in (".raw", ".tif", ".tiff", ".png"):
-        raise SystemExit(f"PoreSPH reads .raw, .tif and .png images, not {ext}")
+    if ext not in (".raw", ".tif", ".tiff", ".png", ".h5", ".hdf5"):
+        raise SystemExit(f"PoreSPH reads .raw, .tif, .png and .h5 images, not {ext}")
     rel = os.path.relpath(os.path.abspath(image_path), os.path.dirname(os.path.abspath(scene_path)))
     cell = ", ".join(repr(n * voxel) for n in shape)
     force = ", ".join(["1.0e-9"] + ["0.0"] * (dim - 1))
     image = [("File", "string", rel)]
     if ext == ".raw":
         image += [("Shape", "Array(int)", "{" + ", ".join(map(str, shape)) + "}"), ("Type", "string", "uint8")]
-    image += [("Solid Values", "Array(int)", "{1}" if ext == ".raw" else "{255}"),
+    if ext in (".h5", ".hdf5"):
+        image += [("Dataset", "string", dataset)]
+    image += [("Solid Values", "Array(int)", "{1}" if ext in (".raw", ".h5", ".hdf5") else "{255}"),
               ("Voxel Size", "double", repr(voxel))]
     q = saxutils.quoteattr
 
@@ -265,7 +267,8 @@ def main():
         if not args.output:
             raise SystemExit("--scene needs an --output image")
         with open(args.scene, "w") as f:
-            f.write(scene_xml(args.output[0], args.scene, args.shape, args.voxel_size, args.steady_tolerance, name))
+            f.write(scene_xml(args.output[0], args.scene, args.shape, args.voxel_size, args.steady_tolerance, name,
+                              args.dataset))
         print(f"blobs: scene {args.scene}")
     if args.json:
         with open(args.json, "w") as f:

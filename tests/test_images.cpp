@@ -4,6 +4,7 @@
 // libtiff themselves, so that a reader and a writer agree on what a file is
 // only through the format.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <png.h>
 #include <tiffio.h>
 
@@ -423,6 +424,178 @@ TEST(ImageReader, FormatIsChosenByExtensionInAnyCase) {
   EXPECT_MENTIONS(error_of([&] { read_image(bmp, {}); }), "unknown image format '.bmp'");
 }
 
+// --- HDF5 datasets and windows ----------------------------------------
+
+// A dataset of `type` holding `values` in the order given, of dims slowest first.
+void write_hdf5_dataset(const std::string& path, const std::string& name, hid_t type,
+                        const std::vector<hsize_t>& dims, const std::vector<long long>& values) {
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(file, 0) << path;
+  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(links, 1);
+  const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+  const hid_t set = H5Dcreate2(file, name.c_str(), type, space, links, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(set, 0) << name;
+  ASSERT_GE(H5Dwrite(set, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+  H5Dclose(set);
+  H5Sclose(space);
+  H5Pclose(links);
+  H5Fclose(file);
+}
+
+// An image's source, member by member (GCC 12 warns of a maybe-uninitialized
+// vector in the nested aggregate ImageSource{path, {}, ...}).
+ImageSource source_of(const std::string& path, const std::string& dataset = "", const RawLayout& raw = {}) {
+  ImageSource source;
+  source.path = path;
+  source.dataset = dataset;
+  source.raw = raw;
+  return source;
+}
+
+TEST(ImageReader, Hdf5IsZYXAsStoredLikeRaw) {
+  const auto flat = temp_path("flat.h5");
+  write_hdf5_dataset(flat, "/image", H5T_STD_U8LE, {2, 3}, {1, 2, 3, 4, 5, 6});
+  const auto plane = read_hdf5(flat, "/image");
+  ASSERT_EQ(plane.dimension, 2);
+  EXPECT_EQ(plane.bits, 8);
+  EXPECT_EQ(plane.shape, (std::array<long long, 3>{{3, 2, 1}}));
+  EXPECT_EQ(plane.at(0, 0), 1);
+  EXPECT_EQ(plane.at(2, 0), 3);
+  EXPECT_EQ(plane.at(0, 1), 4);
+  // [z][y][x] of int32: 16 bits, value 100 z + 10 y + x.
+  std::vector<long long> values;
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 4; ++x) values.push_back(100 * z + 10 * y + x);
+  const auto volume_path = temp_path("volume.hdf5");
+  write_hdf5_dataset(volume_path, "/scan/segmented", H5T_STD_I32BE, {2, 3, 4}, values);
+  const auto volume = read_image(source_of(volume_path, "/scan/segmented"));
+  ASSERT_EQ(volume.dimension, 3);
+  EXPECT_EQ(volume.bits, 16);
+  EXPECT_EQ(volume.shape, (std::array<long long, 3>{{4, 3, 2}}));
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 4; ++x) EXPECT_EQ(volume.at(x, y, z), 100 * z + 10 * y + x);
+  const auto header = read_image_header(source_of(volume_path, "scan/segmented"));
+  EXPECT_EQ(header.shape, volume.shape);
+}
+
+TEST(ImageReader, Hdf5ProblemsAreNamed) {
+  const auto path = temp_path("labels.h5");
+  write_hdf5_dataset(path, "/scan/segmented", H5T_STD_U16LE, {2, 2}, {0, 1, 2, 3});
+  const auto missing = error_of([&] { read_hdf5(path, "/scan/labels"); });
+  EXPECT_MENTIONS(missing, "Image/Dataset '/scan/labels' is not in the file");
+  EXPECT_MENTIONS(missing, "'/scan/segmented'");  // what is there
+  EXPECT_MENTIONS(error_of([&] { read_hdf5(path, "/nothing/here"); }), "'/nothing' is missing");
+  EXPECT_MENTIONS(error_of([&] { read_hdf5(path, "/scan"); }), "a group, not a dataset");
+  const ImageSource without_dataset = source_of(path);
+  const auto none = error_of([&] { read_image(without_dataset); });
+  EXPECT_MENTIONS(none, "needs Image/Dataset");
+  EXPECT_MENTIONS(none, "'/scan/segmented'");
+  const auto line = temp_path("line.h5");
+  write_hdf5_dataset(line, "/image", H5T_STD_U8LE, {4}, {0, 1, 0, 1});
+  EXPECT_MENTIONS(error_of([&] { read_hdf5(line, "/image"); }), "has 1 dimensions");
+  const auto real = temp_path("real.h5");
+  write_hdf5_dataset(real, "/image", H5T_IEEE_F32LE, {2, 2}, {0, 1, 0, 1});
+  EXPECT_MENTIONS(error_of([&] { read_hdf5(real, "/image"); }), "floating-point values");
+  const auto negative = temp_path("negative.h5");
+  write_hdf5_dataset(negative, "/image", H5T_STD_I32LE, {2, 2}, {0, 1, -5, 1});
+  EXPECT_MENTIONS(error_of([&] { read_hdf5(negative, "/image"); }), "the label -5 at voxel (0, 1, 0)");
+  const auto large = temp_path("large.h5");
+  write_hdf5_dataset(large, "/image", H5T_STD_U32LE, {1, 2}, {0, 70000});
+  EXPECT_MENTIONS(error_of([&] { read_hdf5(large, "/image"); }), "70000");
+  const auto text = temp_path("text.h5");
+  write_bytes(text, {'n', 'o', 't', ' ', 'h', 'd', 'f', '5', ' ', 'a', 't', ' ', 'a', 'l', 'l'});
+  EXPECT_MENTIONS(error_of([&] { read_hdf5(text, "/image"); }), "HDF5");
+  EXPECT_MENTIONS(error_of([&] { read_hdf5(temp_path("absent.h5"), "/image"); }), "no such file");
+  const auto raw = temp_path("dataset.raw");
+  write_bytes(raw, {1, 2, 3, 4});
+  const ImageSource raw_with_dataset = source_of(raw, "/image", {{2, 2}, 8});
+  EXPECT_MENTIONS(error_of([&] { read_image(raw_with_dataset); }),
+                  "only an HDF5 file (.h5, .hdf5) holds datasets");
+}
+
+// 5 x 4 x 3 voxels, value 100 z + 10 y + x + 1, in every format that holds a volume, and its first page as a PNG.
+struct NumberedVolume {
+  VoxelImage whole;
+  std::vector<ImageSource> sources;
+  ImageSource png;
+};
+
+NumberedVolume numbered_volume() {
+  NumberedVolume v;
+  v.whole.dimension = 3;
+  v.whole.shape = {5, 4, 3};
+  v.whole.values.resize(60);
+  std::vector<long long> zyx;
+  std::vector<unsigned char> bytes;
+  std::vector<TiffPage> strips(3), tiles(3);
+  for (int z = 0; z < 3; ++z) {
+    Picture page{5, 4, {}};
+    for (int r = 0; r < 4; ++r)
+      for (int x = 0; x < 5; ++x) page.values.push_back(100 * z + 10 * (3 - r) + x + 1);  // row r is y = 3 - r
+    strips[z].picture = tiles[z].picture = page;
+    tiles[z].tile = 16;
+    strips[z].compression = COMPRESSION_LZW;
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 5; ++x) {
+        const auto value = static_cast<std::uint16_t>(100 * z + 10 * y + x + 1);
+        v.whole.values[v.whole.index(x, y, z)] = value;
+        zyx.push_back(value);
+        bytes.insert(bytes.end(), {static_cast<unsigned char>(value & 0xff), static_cast<unsigned char>(value >> 8)});
+      }
+  }
+  v.whole.bits = 16;
+  const auto raw = temp_path("numbered.raw"), strip = temp_path("numbered.tif"), tiled = temp_path("tiled.tiff"),
+             h5 = temp_path("numbered.h5"), png = temp_path("numbered.png");
+  write_bytes(raw, bytes);
+  write_tiff(strip, strips);
+  write_tiff(tiled, tiles);
+  write_hdf5_dataset(h5, "/image", H5T_STD_U16LE, {3, 4, 5}, zyx);
+  Picture first{5, 4, {}};
+  for (int r = 0; r < 4; ++r)
+    for (int x = 0; x < 5; ++x) first.values.push_back(10 * (3 - r) + x + 1);
+  write_png(png, first, 16);
+  v.sources = {source_of(raw, "", {{5, 4, 3}, 16}), source_of(strip), source_of(tiled), source_of(h5, "/image")};
+  v.png = source_of(png);
+  return v;
+}
+
+TEST(ImageReader, WindowsHoldTheirLayersWrappedAndReflected) {
+  const auto volume = numbered_volume();
+  // Across the periodic face along x (4, 0, 1), reflected along y (3, 3, 2, 1), and z out of order.
+  ImageWindow window;
+  window.source = {{{4, 0, 1}, {3, 3, 2, 1}, {2, 0}}};
+  const auto expected = take_window(volume.whole, window);
+  EXPECT_EQ(expected.shape, (std::array<long long, 3>{{3, 4, 2}}));
+  EXPECT_EQ(expected.at(0, 0, 0), 200 + 30 + 4 + 1);
+  EXPECT_EQ(expected.at(1, 3, 1), 0 + 10 + 0 + 1);
+  for (const auto& source : volume.sources) {
+    SCOPED_TRACE(source.path);
+    EXPECT_EQ(read_image_header(source).shape, volume.whole.shape);
+    EXPECT_EQ(read_image(source).values, volume.whole.values);
+    const auto piece = read_image_window(source, window);
+    EXPECT_EQ(piece.shape, expected.shape);
+    EXPECT_EQ(piece.values, expected.values);
+    long long declared = 0;
+    read_image_window(source, window, [&](long long voxels, const std::string&) {
+      if (declared == 0) declared = voxels;  // (a tiled TIFF's tiles are asked about after)
+    });
+    EXPECT_EQ(declared, 3 * 4 * 2);  // the memory check is asked about the window, not the whole file
+    ImageWindow beyond;
+    beyond.source[2] = {3};
+    EXPECT_MENTIONS(error_of([&] { read_image_window(source, beyond); }), "layer 3 along z");
+  }
+  ImageWindow plane;
+  plane.source = {{{1, 2}, {0, 3}, {}}};
+  VoxelImage first = volume.whole;
+  first.dimension = 2;
+  first.shape[2] = 1;
+  first.values.resize(20);
+  EXPECT_EQ(read_image_window(volume.png, plane).values, take_window(first, plane).values);
+}
+
 TEST(VoxelImage, MirrorRepeatsTheImageBackwardsAlongOneAxis) {
   VoxelImage image;
   image.shape = {3, 2, 1};
@@ -781,6 +954,28 @@ TEST_F(ImageParameters, MirrorDoublesTheCellAlongTheDrivenAxis) {
   undriven.sublist("Image").set("Mirror", true);
   undriven.sublist("Fluid").set("Body Force", array<double>({1e-3, 1e-3}));
   EXPECT_MENTIONS(scene_error(undriven), "must lie along one axis");
+}
+
+TEST_F(ImageParameters, Hdf5DatasetIsNamedByImageDataset) {
+  const auto h5 = folder + "/sample.h5";
+  write_hdf5_dataset(h5, "/segmented", H5T_STD_U8LE, {2, 3}, {4, 5, 6, 1, 2, 3});
+  auto list = image_scene("sample.h5");
+  list.sublist("Image").set("Dataset", std::string("/segmented"));
+  validate_parameters(list);
+  const auto scene = scene_from_parameters(list, folder);
+  EXPECT_EQ(scene.image.counts.solid, 1);
+  EXPECT_EQ(scene.image.voxels->at(2, 0), 6);  // the PNG's axes: the same image as sample.png
+  auto from_png = image_scene(png);
+  validate_parameters(from_png);
+  EXPECT_EQ(scene.image.voxels->values, scene_from_parameters(from_png, folder).image.voxels->values);
+  list.sublist("Image").set("Dataset", std::string("/labels"));
+  EXPECT_MENTIONS(scene_error(list, folder), "Image/Dataset '/labels' is not in the file");
+  auto for_png = image_scene(png);
+  for_png.sublist("Image").set("Dataset", std::string("/segmented"));
+  EXPECT_MENTIONS(scene_error(for_png, folder), "only an HDF5 file");
+  auto orphan = testing::minimal_scene();
+  orphan.sublist("Image").set("Dataset", std::string("/segmented"));
+  EXPECT_MENTIONS(scene_error(orphan), "Image/Dataset is given but Image/File is empty");
 }
 
 TEST_F(ImageParameters, ImageIsGivenFromXmlAndSet) {

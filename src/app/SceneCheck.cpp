@@ -230,8 +230,9 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   // a View, copies it to the host and splits it into the written arrays.
   const double grid_per_process = static_cast<double>(e.grid_nodes) / ranks * (3.0 * (D + 2) + 5) * 8;
   e.bytes_per_process = std::max(slots * slot.run + grid_per_process, owned * slot.setup + slots * slot.run / 2);
-  // Every process holds the whole image: its values (2 bytes a voxel) and
-  // its distance field, on the host and in the kernels' memory (4 + 4).
+  // Every process holds its piece of the image (its box and a halo,
+  // scene/ImagePieces.hpp): its values (2 bytes a voxel) and its distance
+  // field, on the host and in the kernels' memory (4 + 4).
   if (scene.image.voxels) e.bytes_per_process += 10.0 * static_cast<double>(scene.image.voxels->count());
   // A warm start holds the stage before it while it sets up: the next
   // coarser level, or the finest level itself for the Darcy check.

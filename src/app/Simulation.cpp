@@ -98,50 +98,23 @@ bool lagrangian_shifting(const SceneConfig& scene) {
   return scene.particle_motion == ParticleMotion::Lagrangian && scene.shifting_coefficient > 0;
 }
 
+namespace {
+template <int Dim>
+bool same_boxes(const Decomposition<Dim>& a, const Decomposition<Dim>& b) {
+  if (a.ranks() != b.ranks()) return false;
+  for (int r = 0; r < a.ranks(); ++r)
+    if (a.box(r).lo != b.box(r).lo || a.box(r).hi != b.box(r).hi) return false;
+  return true;
+}
+}  // namespace
+
 template <int Dim>
 Decomposition<Dim> decompose(const SceneConfig& scene, int ranks) {
   std::array<double, Dim> cell{};
   std::array<bool, Dim> periodic{};
-  for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d];
-  std::array<int, Dim> grid{};
-  if (!scene.process_grid.empty()) {
-    if (static_cast<int>(scene.process_grid.size()) != Dim)
-      throw std::invalid_argument("Parallel/Process Grid needs one count per direction");
-    for (int d = 0; d < Dim; ++d) grid[d] = scene.process_grid[d];
-  } else {
-    // The factorisation of `ranks` whose boxes are closest to cubes.
-    double best = INFINITY;
-    std::array<int, Dim> g{};
-    auto search = [&](auto&& self, int d, int left) -> void {
-      if (d == Dim - 1) {
-        g[d] = left;
-        double worst = 1;
-        for (int a = 0; a < Dim; ++a)
-          for (int b = 0; b < Dim; ++b) worst = std::max(worst, (cell[a] / g[a]) / (cell[b] / g[b]));
-        if (worst < best) best = worst, grid = g;
-        return;
-      }
-      for (int n = 1; n <= left; ++n)
-        if (left % n == 0) g[d] = n, self(self, d + 1, left / n);
-    };
-    search(search, 0, ranks);
-  }
   std::array<std::vector<double>, Dim> cuts;
-  int product = 1;
-  for (int d = 0; d < Dim; ++d) {
-    product *= grid[d];
-    cuts[d] = scene.cuts[d].empty() ? Decomposition<Dim>::equal_cuts(cell[d], grid[d]) : scene.cuts[d];
-    if (static_cast<int>(cuts[d].size()) != grid[d] + 1 || cuts[d].front() != 0 || cuts[d].back() != cell[d] ||
-        !std::is_sorted(cuts[d].begin(), cuts[d].end()))
-      throw std::invalid_argument("Parallel cuts along direction " + std::to_string(d) + " must run from 0 to the "
-                                  "cell side in increasing order, one more than the process grid's count");
-  }
-  if (product != ranks)
-    throw std::invalid_argument("Parallel/Process Grid holds " + std::to_string(product) + " processes, the run has " +
-                                std::to_string(ranks));
-  auto decomposition = Decomposition<Dim>::cartesian(cell, periodic, cuts);
-  decomposition.check(ranks);
-  return decomposition;
+  for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d], cuts[d] = scene.cuts[d];
+  return grid_decomposition<Dim>(cell, periodic, ranks, scene.process_grid, cuts);
 }
 
 template <int Dim, class ExecSpace>
@@ -166,9 +139,17 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d];
     decomposition = Decomposition<Dim>(boxes, cell, periodic);
     decomposition.check(comm_.size());
+    // An image is held in the pieces of the process grid's boxes: boxes of
+    // another decomposition (a checkpoint of RCB's) would put particles
+    // beyond their process's piece.
+    if (scene.image.voxels && !same_boxes(decomposition, decompose<Dim>(scene, comm_.size())))
+      throw std::invalid_argument(
+          "the sub-domains given (a checkpoint's) are not the process grid an image scene is divided by: continue "
+          "the run on another number of processes, which divides the cell anew");
   } else {
-    decomposition =
-        scene.grid_decomposition ? decompose<Dim>(scene, comm_.size()) : rcb_decomposition<Dim>(scene, comm_);
+    // An image is held in the pieces of the process grid's boxes (scene/ImageScene.hpp).
+    decomposition = scene.grid_decomposition || scene.image.voxels ? decompose<Dim>(scene, comm_.size())
+                                                                   : rcb_decomposition<Dim>(scene, comm_);
   }
   neighbourhood_ = Neighbourhood<Dim, ExecSpace>(comm_, decomposition, scene.cell_size, kernel_.cutoff, skin);
   const auto& box = neighbourhood_.box();

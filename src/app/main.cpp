@@ -21,6 +21,7 @@
 #include "io/Hdf5File.hpp"
 #include "io/OutputDirectory.hpp"
 #include "io/Parameters.hpp"
+#include "parallel/Communicator.hpp"
 #include "io/Summary.hpp"
 #include "io/TextValues.hpp"
 
@@ -106,26 +107,10 @@ CommandLine parse_command_line(int argc, char** argv) {
 // Every process reaches the same verdict on a check some of them may see
 // differently (the file system, a signal): the first failing process's
 // message is everyone's, so that no process runs on alone into a collective.
-std::string agree(const std::string& problem, int rank, int size) {
-  int first = problem.empty() ? size : rank;
-  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  if (first == size) return "";
-  int length = static_cast<int>(problem.size());
-  MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
-  std::string message = rank == first ? problem : std::string(length, '\0');
-  MPI_Bcast(message.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
-  return message;
-}
+std::string agree(const std::string& problem, int, int) { return poresph::Communicator().first_problem(problem); }
 
 // Processes of this run on this machine, for the memory check.
-int processes_on_this_machine() {
-  MPI_Comm machine;
-  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &machine);
-  int n = 1;
-  MPI_Comm_size(machine, &n);
-  MPI_Comm_free(&machine);
-  return n;
-}
+int processes_on_this_machine() { return poresph::Communicator().on_this_machine(); }
 
 int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const poresph::SceneConfig& scene,
         const poresph::OutputDirectoryPlan& plan, poresph::OutputClaim& claim, double seconds_before, int rank) {

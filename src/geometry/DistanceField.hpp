@@ -7,6 +7,7 @@
 // counterpart of a grain's |x - c| - r.
 #include <Kokkos_Core.hpp>
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -18,6 +19,10 @@ template <int Dim, class MemorySpace>
 struct DistanceField {
   Kokkos::View<const float*, MemorySpace> values;  // at voxel centres, x fastest
   long long shape[Dim] = {};
+  // The cell's voxel of values' voxel 0, where a process holds only its
+  // piece of the image (0: the whole). A point's voxel is found in the
+  // cell's frame and then shifted, so that a piece reads the same bits.
+  long long first[Dim] = {};
   double voxel_size = 0;
   bool periodic[Dim] = {};
 
@@ -38,7 +43,7 @@ struct DistanceField {
       double weight = 1;
       for (int d = Dim - 1; d >= 0; --d) {
         const int up = (corner >> d) & 1;
-        long long i = lower[d] + up;
+        long long i = lower[d] + up - first[d];
         if (periodic[d]) {
           i %= shape[d];
           if (i < 0) i += shape[d];
@@ -80,11 +85,12 @@ struct DistanceField {
 template <int Dim>
 DistanceField<Dim, Kokkos::HostSpace> host_distance_field(const std::vector<float>& values,
                                                           const std::array<long long, 3>& shape, double voxel_size,
-                                                          const std::array<bool, 3>& periodic) {
+                                                          const std::array<bool, 3>& periodic,
+                                                          const std::array<long long, 3>& first = {}) {
   DistanceField<Dim, Kokkos::HostSpace> field;
   field.values = Kokkos::View<const float*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
       values.data(), values.size());
-  for (int d = 0; d < Dim; ++d) field.shape[d] = shape[d], field.periodic[d] = periodic[d];
+  for (int d = 0; d < Dim; ++d) field.shape[d] = shape[d], field.periodic[d] = periodic[d], field.first[d] = first[d];
   field.voxel_size = voxel_size;
   return field;
 }
@@ -93,14 +99,16 @@ DistanceField<Dim, Kokkos::HostSpace> host_distance_field(const std::vector<floa
 template <int Dim, class MemorySpace>
 DistanceField<Dim, MemorySpace> device_distance_field(const std::vector<float>& values,
                                                       const std::array<long long, 3>& shape, double voxel_size,
-                                                      const std::array<bool, 3>& periodic) {
-  const auto host = host_distance_field<Dim>(values, shape, voxel_size, periodic);
+                                                      const std::array<bool, 3>& periodic,
+                                                      const std::array<long long, 3>& first = {}) {
+  const auto host = host_distance_field<Dim>(values, shape, voxel_size, periodic, first);
   DistanceField<Dim, MemorySpace> field;
   Kokkos::View<float*, MemorySpace> copy("image_distance", values.size());
   Kokkos::deep_copy(copy, Kokkos::View<const float*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
                               values.data(), values.size()));
   field.values = copy;
-  for (int d = 0; d < Dim; ++d) field.shape[d] = host.shape[d], field.periodic[d] = host.periodic[d];
+  for (int d = 0; d < Dim; ++d)
+    field.shape[d] = host.shape[d], field.periodic[d] = host.periodic[d], field.first[d] = host.first[d];
   field.voxel_size = voxel_size;
   return field;
 }

@@ -145,7 +145,7 @@ std::vector<float> smoothed_at_voxel_scale(std::vector<double> d, const std::arr
 }
 
 std::vector<float> surface_distance(const VoxelImage& image, const std::vector<int>& solid_values, double voxel_size,
-                                    const std::array<bool, 3>& periodic) {
+                                    const std::array<bool, 3>& periodic, const VoxelFrame* frame) {
   const int dim = image.dimension;
   const auto& shape = image.shape;
   const long long count = image.count();
@@ -173,6 +173,14 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
     index[1] = at / shape[0] % shape[1];
     index[2] = at / (shape[0] * shape[1]);
   };
+  // Where a voxel lies in the cell: the whole image's own index, or a piece's shifted and wrapped.
+  const VoxelFrame cell = frame ? *frame : VoxelFrame{{}, shape, periodic};
+  auto cell_index = [&](const long long (&index)[3], long long (&in_cell)[3]) {
+    for (int d = 0; d < 3; ++d) {
+      const long long c = index[d] + cell.first[d];
+      in_cell[d] = cell.periodic[d] ? (c % cell.shape[d] + cell.shape[d]) % cell.shape[d] : c;
+    }
+  };
 
   // 2. Surface points: where phi crosses 1/2 between two face neighbours,
   //    the crossing by linear interpolation between their centres, with the
@@ -199,8 +207,13 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
       const long long hi = neighbour(at, index, d, 1);
       if (hi < 0 || (phi[at] - 0.5) * (phi[hi] - 0.5) > 0 || phi[at] == phi[hi]) continue;
       const double t = (phi[at] - 0.5) / (phi[at] - phi[hi]);
+      // The point in the cell's voxel coordinates (a piece's voxels shifted
+      // to where they lie in the cell), so that a piece computes the whole
+      // image's bits.
       std::array<double, 3> f{}, g_at{}, g_hi{}, u{};
-      for (int e = 0; e < dim; ++e) f[e] = index[e] + 0.5;
+      long long in_cell[3];
+      cell_index(index, in_cell);
+      for (int e = 0; e < dim; ++e) f[e] = in_cell[e] + 0.5;
       f[d] += t;
       gradient_at(at, g_at);
       gradient_at(hi, g_hi);
@@ -228,9 +241,10 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
   squared_distance_transform(shape, dim, periodic, site, &nearest);
   std::vector<float> distance(static_cast<size_t>(count));
   for (long long at = 0; at < count; ++at) {
-    long long index[3], centre[3];
+    long long index[3], centre[3], here[3];
     index_of(at, index);
     index_of(nearest[at], centre);
+    cell_index(index, here);
     double best_sq = std::numeric_limits<double>::infinity(), best = 0;
     const int reach[3] = {1, dim > 1 ? 1 : 0, dim > 2 ? 1 : 0};
     for (int k = -reach[2]; k <= reach[2]; ++k)
@@ -252,8 +266,8 @@ std::vector<float> surface_distance(const VoxelImage& image, const std::vector<i
             const auto& f = foot[point];
             double r[3] = {0, 0, 0}, r_sq = 0, along = 0;
             for (int d = 0; d < dim; ++d) {
-              r[d] = index[d] + 0.5 - f[d];
-              if (periodic[d]) r[d] -= shape[d] * std::floor(r[d] / shape[d] + 0.5);  // nearest image
+              r[d] = here[d] + 0.5 - f[d];
+              if (cell.periodic[d]) r[d] -= cell.shape[d] * std::floor(r[d] / cell.shape[d] + 0.5);  // nearest image
               r_sq += r[d] * r[d];
               along += r[d] * normal[point][d];
             }

@@ -52,7 +52,17 @@ std::vector<float> smoothed_at_voxel_scale(std::vector<double> distance, const s
 // for a face between voxels but reads a curved surface about a quarter of
 // a voxel too far out (a disk of 54 voxels: -0.17 to -0.27 voxel on
 // average at the fluid particles next to it), which moved k by 1 to 3 %.
+//
+// With `frame`, the image is a piece of a larger one (scene/ImagePieces.hpp),
+// and the surface points and distances are computed in the whole image's
+// coordinates: where the piece holds a voxel's surface, its distance is the
+// whole image's to the bit.
+struct VoxelFrame {
+  std::array<long long, 3> first{};  // the cell's voxel of the piece's voxel 0 (unwrapped)
+  std::array<long long, 3> shape{};  // the cell's voxels
+  std::array<bool, 3> periodic{};    // the cell's periodic axes
+};
 std::vector<float> surface_distance(const VoxelImage& image, const std::vector<int>& solid_values, double voxel_size,
-                                    const std::array<bool, 3>& periodic);
+                                    const std::array<bool, 3>& periodic, const VoxelFrame* frame = nullptr);
 
 }  // namespace poresph

@@ -6,12 +6,14 @@
 
 #include "geometry/DistanceTransform.hpp"
 #include "geometry/Grains.hpp"
+#include "parallel/Communicator.hpp"
 
 namespace poresph {
 
 double solid_porosity(const SceneConfig& scene) {
-  if (scene.image.voxels)
-    return static_cast<double>(scene.image.counts.pore) / static_cast<double>(scene.image.voxels->count());
+  if (scene.image.voxels)  // over all the pieces, where each process holds its own
+    return static_cast<double>(scene.image.counts.pore) /
+           static_cast<double>(scene.image.counts.pore + scene.image.counts.solid);
   return porosity(scene.grains, scene);
 }
 
@@ -68,23 +70,32 @@ std::vector<std::string> check_pores(const SceneConfig& scene) {
 }
 
 double pore_fraction_narrower_than(const SceneConfig& scene, double width) {
-  const auto& voxels = *scene.image.voxels;
-  const auto& distance = *scene.image.distance;
-  const double radius = 0.5 * width / scene.image.voxel_size;  // in voxels
+  const auto& image = scene.image;
+  const auto& voxels = *image.voxels;
+  const auto& distance = *image.distance;
+  const double radius = 0.5 * width / image.voxel_size;  // in voxels
   // Centres of the balls that fit (at least `radius` from the walls), and
   // each voxel's distance to the nearest of them: a voxel within a radius
   // of one (and a voxel more, for the voxel centres' sampling) is covered.
+  // A process holding a piece counts the voxels of its box; its halo holds
+  // the centres within reach of them (scene/ImageScene.cpp).
   std::vector<char> centre(distance.size());
-  long long pore = 0;
-  for (size_t n = 0; n < distance.size(); ++n) {
-    centre[n] = distance[n] >= radius * scene.image.voxel_size;
-    pore += distance[n] > 0;
-  }
-  const auto to_centre = squared_distance_transform(voxels.shape, voxels.dimension, scene.periodic, centre);
+  for (size_t n = 0; n < distance.size(); ++n) centre[n] = distance[n] >= radius * image.voxel_size;
+  const auto to_centre =
+      squared_distance_transform(voxels.shape, voxels.dimension, image_field_periodic(image, scene.periodic), centre);
   const double reach_sq = (radius + 1) * (radius + 1);
-  long long uncovered = 0;
-  for (size_t n = 0; n < distance.size(); ++n) uncovered += distance[n] > 0 && to_centre[n] > reach_sq;
-  return pore > 0 ? static_cast<double>(uncovered) / static_cast<double>(pore) : 0.0;
+  VoxelBox owned = image.owned;
+  if (owned.empty()) owned.hi = voxels.shape;  // the whole image
+  long long counts[2] = {0, 0};  // pore, and pore no ball covers
+  for (long long k = owned.lo[2]; k < owned.hi[2]; ++k)
+    for (long long j = owned.lo[1]; j < owned.hi[1]; ++j)
+      for (long long i = owned.lo[0]; i < owned.hi[0]; ++i) {
+        const size_t n = voxels.index(i - image.piece_first[0], j - image.piece_first[1], k - image.piece_first[2]);
+        counts[0] += distance[n] > 0;
+        counts[1] += distance[n] > 0 && to_centre[n] > reach_sq;
+      }
+  Communicator().sum(counts, 2);
+  return counts[0] > 0 ? static_cast<double>(counts[1]) / static_cast<double>(counts[0]) : 0.0;
 }
 
 }  // namespace poresph

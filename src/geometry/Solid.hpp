@@ -118,6 +118,14 @@ void mark_grain_shells(const std::vector<Grain>& grains, const std::array<bool, 
   }
 }
 
+// The axes along which an image's field wraps: the cell's periodic ones
+// that the voxels held span whole.
+inline std::array<bool, 3> image_field_periodic(const ImageConfig& image, const std::array<bool, 3>& periodic) {
+  std::array<bool, 3> wraps{};
+  for (int d = 0; d < 3; ++d) wraps[d] = periodic[d] && image.piece_wraps[d];
+  return wraps;
+}
+
 // An image: each point reads the signed distance to the surface found
 // between the voxels (surface_distance); inside the solid down to the
 // shell's depth it is a boundary particle of a sampled surface
@@ -131,7 +139,8 @@ void mark_grain_shells(const std::vector<Grain>& grains, const std::array<bool, 
 template <int Dim>
 void mark_image_shells(const ImageConfig& image, const std::array<bool, 3>& periodic, bool fluid_surfaces,
                        const LatticeBlock<Dim>& block, std::vector<SolidMark<Dim>>& marks) {
-  const auto field = host_distance_field<Dim>(*image.distance, image.voxels->shape, image.voxel_size, periodic);
+  const auto field = host_distance_field<Dim>(*image.distance, image.voxels->shape, image.voxel_size,
+                                              image_field_periodic(image, periodic), image.piece_first);
   for (long long flat = 0; flat < block.total; ++flat) {
     double x[Dim];
     long long rest = flat;
@@ -220,7 +229,9 @@ SolidMap<Dim, MemorySpace> make_solid_map(const SceneConfig& scene, double grain
   map.has_image = static_cast<bool>(scene.image.voxels);
   if (map.has_image)
     map.image = device_distance_field<Dim, MemorySpace>(*scene.image.distance, scene.image.voxels->shape,
-                                                        scene.image.voxel_size, scene.periodic);
+                                                        scene.image.voxel_size,
+                                                        image_field_periodic(scene.image, scene.periodic),
+                                                        scene.image.piece_first);
   return map;
 }
 

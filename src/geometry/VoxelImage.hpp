@@ -28,6 +28,13 @@ struct VoxelImage {
   std::uint16_t at(long long i, long long j, long long k = 0) const { return values[index(i, j, k)]; }
 };
 
+// The voxels of the cell a box covers: [lo, hi) along each axis, in the
+// cell's voxels (after Image/Mirror).
+struct VoxelBox {
+  std::array<long long, 3> lo{}, hi{{0, 0, 1}};
+  bool empty() const { return hi[0] <= lo[0] || hi[1] <= lo[1] || hi[2] <= lo[2]; }
+};
+
 // "120 x 80" or "64 x 64 x 32": for messages.
 inline std::string shape_text(const VoxelImage& image) {
   std::string text;

@@ -75,15 +75,24 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
   // The image by its shape, voxel size, solid values and a checksum of its
   // voxels (after Image/Mirror): another image, or the same read otherwise,
   // is another solid.
+  // A process holding a piece knows the whole image's by the checksum made
+  // over all the pieces (scene/ImageScene.cpp).
   if (scene.image.voxels) {
-    const auto& voxels = *scene.image.voxels;
-    std::vector<std::uint16_t> solid(voxels.values.size());
-    const auto is_solid = solid_value_table(scene.image.solid_values);
-    for (size_t n = 0; n < solid.size(); ++n) solid[n] = is_solid[voxels.values[n]];
-    std::snprintf(checksum, sizeof checksum, "%016llx",
-                  static_cast<unsigned long long>(
-                      row_checksum(solid.data(), static_cast<long long>(solid.size()), 1, 0)));
-    entries.emplace_back("Image", shape_text(voxels) + " voxels of " + number(scene.image.voxel_size) +
+    VoxelImage whole_shape;  // for its shape's text only
+    whole_shape.dimension = scene.image.voxels->dimension;
+    whole_shape.shape = scene.image.voxels->shape;
+    std::uint64_t sum = scene.image.solid_checksum;
+    if (scene.image.owned.empty()) {
+      const auto& voxels = *scene.image.voxels;
+      std::vector<std::uint16_t> solid(voxels.values.size());
+      const auto is_solid = solid_value_table(scene.image.solid_values);
+      for (size_t n = 0; n < solid.size(); ++n) solid[n] = is_solid[voxels.values[n]];
+      sum = row_checksum(solid.data(), static_cast<long long>(solid.size()), 1, 0);
+    } else {
+      whole_shape.shape = scene.image.cell_voxels;
+    }
+    std::snprintf(checksum, sizeof checksum, "%016llx", static_cast<unsigned long long>(sum));
+    entries.emplace_back("Image", shape_text(whole_shape) + " voxels of " + number(scene.image.voxel_size) +
                                       ", solid voxels checksum " + checksum);
   }
   std::string text;

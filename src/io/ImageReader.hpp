@@ -8,6 +8,7 @@
 // Every reader throws std::invalid_argument naming the file and what is
 // wrong with it (missing, truncated, colour, not the shape or type said)
 // before anything else is done with the scene.
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -42,7 +43,50 @@ VoxelImage read_tiff(const std::string& path, const ImageSizeCheck& check = {});
 // Headerless values; the file's size must be exactly the layout's.
 VoxelImage read_raw(const std::string& path, const RawLayout& layout, const ImageSizeCheck& check = {});
 
+// Where an image's voxels are, with what a file does not say of itself.
+struct ImageSource {
+  std::string path;
+  RawLayout raw;        // .raw only
+  std::string dataset;  // .h5 and .hdf5 only: the dataset's path inside the file, e.g. "/segmented"
+};
+
+// What a file says of its image before any voxel is read.
+struct ImageHeader {
+  int dimension = 2;
+  std::array<long long, 3> shape{{0, 0, 1}};  // nx, ny, nz as geometry/VoxelImage.hpp orders them
+  int bits = 8;
+};
+
+// The voxels a reader keeps: along x, y and z the file's layer of each
+// layer kept, in order. A box of the cell and its halo is a run of layers,
+// wrapped around a periodic axis (..., n - 1, 0, 1, ...) and reflected
+// along a mirrored one (..., n - 1, n - 1, n - 2, ...). An empty axis keeps
+// every layer as stored.
+struct ImageWindow {
+  std::array<std::vector<long long>, 3> source;
+};
+
 // By the extension (any case): .png, .tif or .tiff, .raw (with `raw`).
 VoxelImage read_image(const std::string& path, const RawLayout& raw, const ImageSizeCheck& check = {});
+// The same, with .h5 and .hdf5 (with `dataset`).
+VoxelImage read_image(const ImageSource& source, const ImageSizeCheck& check = {});
+
+// The header alone: shape and bits, every page of a TIFF stack checked.
+ImageHeader read_image_header(const ImageSource& source);
+
+// The window's voxels and nothing else: a raw volume by seeks to its rows,
+// a TIFF stack by its pages in the window, an HDF5 dataset by hyperslabs;
+// a PNG (2D, and compressed as a whole) is decoded and cut. `check` is
+// given the window's voxel count and the file's shape.
+VoxelImage read_image_window(const ImageSource& source, const ImageWindow& window, const ImageSizeCheck& check = {});
+
+// Integer datasets of 2 or 3 dimensions, stored [z][y][x] (x fastest, as
+// h5py writes a numpy array a[z, y, x] and as a raw volume lies), without
+// a flip. Unsigned 8-bit values keep 8 bits; any other integer type is
+// read as 16 bits, and a value outside 0 .. 65535 is refused.
+VoxelImage read_hdf5(const std::string& path, const std::string& dataset, const ImageSizeCheck& check = {});
+
+// The window cut from an image already held (x, y, z layers of `image`).
+VoxelImage take_window(const VoxelImage& image, const ImageWindow& window);
 
 }  // namespace poresph

@@ -1,12 +1,10 @@
 #include "io/Parameters.hpp"
 
-#include "core/MemoryAvailable.hpp"
-#include "geometry/DistanceTransform.hpp"
 #include "geometry/Grains.hpp"
-#include "geometry/Percolation.hpp"
 #include "geometry/RandomPack.hpp"
 #include "geometry/Solid.hpp"
 #include "io/ImageReader.hpp"
+#include "scene/ImageScene.hpp"
 
 #include <Teuchos_Array.hpp>
 #include <Teuchos_StandardParameterEntryValidators.hpp>
@@ -204,7 +202,12 @@ RCP<ParameterList> make_valid_parameters() {
           "The image, by extension: .png (2D, 8 or 16-bit greyscale), .tif or .tiff (2D, or 3D as a stack of "
           "pages, page p at z = p; 8 or 16-bit greyscale), .raw (headerless, with Shape and Type). The first row "
           "of a PNG or TIFF page is at the largest y (y up, as displayed); a raw volume is x fastest, then y, "
-          "then z. A relative path is relative to the scene file's folder. Empty: no image.");
+          "then z; .h5 or .hdf5 (an integer dataset, Dataset, [y][x] or [z][y][x] as stored, x fastest, as a raw "
+          "volume and as h5py writes a numpy array a[z, y, x]; uint8 or wider, labels 0 to 65535). A relative "
+          "path is relative to the scene file's folder. Empty: no image.");
+    s.set("Dataset", std::string(""),
+          "REQUIRED for an HDF5 File (.h5, .hdf5), and only for one: the dataset's path inside the file, e.g. "
+          "'/segmented'.");
     s.set("Shape", Array<int>(),
           "Voxels per direction, {nx, ny} (2D) or {nx, ny, nz} (3D): REQUIRED for .raw, checked against the "
           "file's size; for .png and .tif, checked against the image when given.",
@@ -282,7 +285,8 @@ RCP<ParameterList> make_valid_parameters() {
     auto& s = list->sublist("Parallel", false, "How the cell is divided among MPI processes.");
     s.set("Decomposition", std::string("rcb"),
           "'rcb': Zoltan2 recursive coordinate bisection weighted by the particles each box will hold; "
-          "'grid': the paper's Cartesian process grid.",
+          "'grid': the paper's Cartesian process grid. A scene of an Image is always divided by the grid: each "
+          "process reads the piece of the image its box needs (docs/method.md).",
           one_of({"rcb", "grid"}));
     s.set("Process Grid", Array<int>(),
           "'grid': processes per direction (their product is the number of ranks). Empty: the factorisation "
@@ -607,32 +611,17 @@ double spacing_across_throat(const SceneConfig& scene, double n) {
   throw ParameterError(msg.str());
 }
 
-// "{1, 2, 3}": for messages.
-template <class T>
-std::string list_text(const std::vector<T>& values) {
-  std::ostringstream out;
-  out.precision(10);
-  out << "{";
-  for (size_t k = 0; k < values.size(); ++k) out << (k ? ", " : "") << values[k];
-  out << "}";
-  return out.str();
-}
-
-// Bytes a voxel that making an image's walls holds at its peak: the voxels
-// (2), the blurred indicator (8), the surface points' index (8), the
-// feature transform (8) and its distances (8), the field (4), and the
-// widths measured on it after (8 + 8 + 1 + 4 as the others are freed).
-constexpr double kImageSetupBytes = 40;
-
-// The Image sublist: the voxels read, mirrored if asked, and checked
-// against the rest of the scene (dimension, cell, grains) before any work.
-// Parsed after Fluid, so that the driven axis is known.
+// The Image sublist: what it asks for, checked one by one; the image is
+// then read in pieces and checked against the rest of the scene
+// (scene/ImageScene.hpp). Parsed after Fluid, Run and Parallel, so that the
+// driven axes, the memory limit and the process grid are known.
 void read_scene_image(const ParameterList& list, const std::string& scene_directory, SceneConfig& scene) {
   const auto& image = list.sublist("Image");
   const auto shape_values = image.get<Array<int>>("Shape");
   const auto solid_values = image.get<Array<int>>("Solid Values");
   const double voxel_size = image.get<double>("Voxel Size");
   const bool mirror = image.get<bool>("Mirror");
+  const std::string dataset = image.get<std::string>("Dataset");
   std::string file = image.get<std::string>("File");
   if (file.empty()) {
     // Said, not ignored: a scene that sets them meant to use an image.
@@ -640,6 +629,7 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
                         : !solid_values.empty() ? "Solid Values"
                         : voxel_size > 0        ? "Voxel Size"
                         : mirror                ? "Mirror"
+                        : !dataset.empty()      ? "Dataset"
                                                 : nullptr;
     if (given) throw ParameterError(std::string("Image/") + given + " is given but Image/File is empty");
     return;
@@ -652,137 +642,29 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   if (!(voxel_size > 0)) throw ParameterError("Image/Voxel Size is required with Image/File (a positive length)");
   if (file[0] != '/' && !scene_directory.empty()) file = scene_directory + "/" + file;
 
-  RawLayout raw;
-  raw.shape.assign(shape_values.begin(), shape_values.end());
-  raw.bits = image.get<std::string>("Type") == "uint16" ? 16 : 8;
+  ImageRequest request;
+  request.source.path = file;
+  request.source.dataset = dataset;
+  request.source.raw.shape.assign(shape_values.begin(), shape_values.end());
+  request.source.raw.bits = image.get<std::string>("Type") == "uint16" ? 16 : 8;
   std::string extension = std::filesystem::path(file).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const bool is_raw = extension == ".raw";
-  if (is_raw && raw.shape.empty())
+  if (extension == ".raw" && shape_values.empty())
     throw ParameterError("Image/Shape is required for a .raw image ('" + file + "' says nothing of its own shape)");
-  // Its walls are made after it is read (the distance field, about
-  // kImageSetupBytes a voxel for a moment, mirrored voxels counted twice):
-  // checked against the memory as soon as the file has said its size, and
-  // before the voxels are allocated, so that a header declaring far more
-  // voxels than the memory holds is refused with the estimate, not ended by
-  // the allocation.
-  const auto check_memory = [&](long long count, const std::string& shape) {
-    const double voxels_made = static_cast<double>(count) * (mirror ? 2 : 1);
-    const double need = kImageSetupBytes * voxels_made;
-    AvailableMemory available = memory_available();
-    if (scene.memory_limit_bytes > 0) available = {scene.memory_limit_bytes, "Run/Memory Limit"};
-    if (need > available.bytes) {
-      std::ostringstream msg;
-      msg.precision(3);
-      msg << "Image/File '" << file << "' (" << shape << "): making its walls takes about " << need / 1e9
-          << " GB for a moment (" << kImageSetupBytes << " bytes a voxel, in every process), and " << available.bytes / 1e9
-          << " GB are available (" << available.source << "). Crop or coarsen the image, or run where there is "
-          << "more memory";
-      throw ParameterError(msg.str());
-    }
-  };
-  VoxelImage voxels;
+  request.solid_values.assign(solid_values.begin(), solid_values.end());
+  request.voxel_size = voxel_size;
+  request.mirror = mirror;
+  request.tensor = list.sublist("Permeability").get<bool>("Tensor");
+  // The ladder's coarsest level has the deepest boundary layer, which the pieces' halo must hold.
+  const auto& convergence = list.sublist("Convergence");
+  request.coarsening = std::pow(convergence.get<double>("Refinement Ratio"), convergence.get<int>("Levels") - 1);
+  request.coarsest_spacing = scene.particle_spacing * request.coarsening;
+  request.spacings_across_throat = list.sublist("Discretization").get<double>("Spacings Across Throat");
   try {
-    voxels = read_image(file, raw, check_memory);
+    build_image_scene(request, scene);
   } catch (const std::invalid_argument& e) {
     throw ParameterError(e.what());
   }
-  const std::string named = "Image/File '" + file + "' (" + shape_text(voxels) + ")";
-  if (!is_raw && !raw.shape.empty()) {
-    std::vector<long long> read_shape(voxels.shape.begin(), voxels.shape.begin() + voxels.dimension);
-    if (read_shape != raw.shape)
-      throw ParameterError(named + " is not of Image/Shape " + list_text(raw.shape));
-  }
-  if (voxels.dimension != scene.dimension)
-    throw ParameterError(named + " is a " + std::to_string(voxels.dimension) + "D image, but Domain/Cell Size has " +
-                         std::to_string(scene.dimension) + " values");
-  const int largest = (1 << voxels.bits) - 1;
-  for (int v : solid_values)
-    if (v > largest)
-      throw ParameterError("Image/Solid Values: " + std::to_string(v) + " cannot occur in " + named + ", an " +
-                           std::to_string(voxels.bits) + "-bit image (values 0 to " + std::to_string(largest) + ")");
-  if (mirror) {
-    if (list.sublist("Permeability").get<bool>("Tensor"))
-      throw ParameterError("Image/Mirror mirrors along the one driven axis, and Permeability/Tensor drives every "
-                           "axis in turn: use one of them");
-    int axis = -1, driven = 0;
-    for (int d = 0; d < scene.dimension; ++d)
-      if (scene.body_force[d] != 0) axis = d, ++driven;
-    if (driven != 1)
-      throw ParameterError("Image/Mirror mirrors along the driven axis: Fluid/Body Force must lie along one axis");
-    voxels = mirrored(voxels, axis);
-    scene.image.mirror_axis = axis;
-  }
-  // The cell is the image: a cell of another size would stretch the voxels
-  // or leave a part of the cell without a solid or pore said.
-  std::vector<double> cell, extent;
-  bool agree = true;
-  for (int d = 0; d < scene.dimension; ++d) {
-    cell.push_back(scene.cell_size[d]);
-    extent.push_back(voxels.shape[d] * voxel_size);
-    agree = agree && std::abs(cell[d] - extent[d]) <= 1e-9 * extent[d];
-  }
-  if (!agree) {
-    std::ostringstream msg;
-    msg.precision(10);
-    msg << "Domain/Cell Size " << list_text(cell) << " is not the extent of the image, " << list_text(extent) << " ("
-        << shape_text(voxels) << " voxels" << (mirror ? " after Image/Mirror" : "") << " of Image/Voxel Size "
-        << voxel_size << " m): they must agree to 1e-9 relative";
-    throw ParameterError(msg.str());
-  }
-  scene.image.solid_values.assign(solid_values.begin(), solid_values.end());
-  scene.image.counts = count_voxels(voxels, scene.image.solid_values);
-  if (scene.image.counts.solid == 0)
-    throw ParameterError(named + " has no solid voxels: no value of Image/Solid Values " +
-                         list_text(scene.image.solid_values) + " occurs in it");
-  if (scene.image.counts.pore == 0)
-    throw ParameterError(named + " has no pore voxels: every value is one of Image/Solid Values " +
-                         list_text(scene.image.solid_values));
-  // A sample that is not periodic, run in a periodic cell, gains a seam of
-  // solid and pore at its faces that is not in the rock: said, with the remedy.
-  for (int axis = 0; axis < scene.dimension; ++axis) {
-    if (!scene.periodic[axis]) continue;
-    const auto mismatch = face_mismatch(voxels, scene.image.solid_values, axis);
-    if (mismatch.faces > std::max(2 * mismatch.inside, 0.05)) {
-      std::ostringstream msg;
-      msg.precision(3);
-      msg << named << ": its two faces across " << "xyz"[axis] << " differ in " << 100 * mismatch.faces
-          << " % of their voxels, where neighbouring layers inside differ in at most " << 100 * mismatch.inside
-          << " %: the periodic cell joins them with a seam that is not in the sample, and k is that of the seamed "
-             "cell. If the sample is not periodic along "
-          << "xyz"[axis] << ", Image/Mirror makes it so along the driven axis";
-      scene.warnings.push_back(msg.str());
-    }
-  }
-  // Every driven axis (each in turn for the tensor) needs a pore path
-  // across the cell, or the run would spend its steps finding k = 0.
-  const bool tensor = list.sublist("Permeability").get<bool>("Tensor");
-  for (int axis = 0; axis < scene.dimension; ++axis) {
-    if (!tensor && scene.body_force[axis] == 0) continue;
-    if (!pore_percolates(voxels, scene.image.solid_values, axis, scene.periodic))
-      throw ParameterError(named + ": no pore path crosses the cell along " + std::string(1, "xyz"[axis]) +
-                           (tensor ? " (Permeability/Tensor drives every axis)" : ", the driven axis") +
-                           ": its pore voxels, joined across voxel faces, hold no path through the cell "
-                           "that way, so no flow gets through. Check Image/Solid Values " +
-                           list_text(scene.image.solid_values));
-  }
-  // The walls the fluid sees: the distance to a surface found between the
-  // voxels, and the driven axes' bottlenecks measured on it (a gap of one
-  // voxel, open in the voxels, may close between the walls).
-  auto distance = surface_distance(voxels, scene.image.solid_values, voxel_size, scene.periodic);
-  const std::vector<double> widths(distance.begin(), distance.end());
-  for (int axis = 0; axis < scene.dimension; ++axis) {
-    if (!tensor && scene.body_force[axis] == 0) continue;
-    scene.image.bottleneck[axis] = widest_path_width(widths, voxels.shape, voxels.dimension, axis, scene.periodic);
-    if (!(scene.image.bottleneck[axis] > 0))
-      throw ParameterError(named + ": its pore voxels cross the cell along " + std::string(1, "xyz"[axis]) +
-                           " only through gaps about a voxel wide, which close when the walls are placed between "
-                           "the voxels: no pore path is left that way. Use an image of finer voxels");
-  }
-  scene.image.distance = std::make_shared<const std::vector<float>>(std::move(distance));
-  scene.image.file = file;
-  scene.image.voxel_size = voxel_size;
-  scene.image.voxels = std::make_shared<const VoxelImage>(std::move(voxels));
 }
 
 }  // namespace
@@ -1009,6 +891,19 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
                    : progress == "never" ? ProgressMode::Never
                                          : ProgressMode::Auto;
 
+  const auto& parallel = list.sublist("Parallel");
+  scene.grid_decomposition = parallel.get<std::string>("Decomposition") == "grid";
+  const auto grid = parallel.get<Array<int>>("Process Grid");
+  scene.process_grid.assign(grid.begin(), grid.end());
+  const char* cut_names[3] = {"X Cuts", "Y Cuts", "Z Cuts"};
+  for (int d = 0; d < 3; ++d) {
+    const auto cuts = parallel.get<Array<double>>(cut_names[d]);
+    scene.cuts[d].assign(cuts.begin(), cuts.end());
+  }
+  if (!scene.grid_decomposition && (!scene.process_grid.empty() || !scene.cuts[0].empty() || !scene.cuts[1].empty() ||
+                                    !scene.cuts[2].empty()))
+    fail("Parallel/Process Grid and the cuts apply to Parallel/Decomposition = grid");
+
   read_scene_image(list, scene_directory, scene);
   const auto& grains = list.sublist("Grains");
   try {
@@ -1088,19 +983,6 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.checkpoint_interval = output.get<int>("Checkpoint Interval");
   scene.final_checkpoint = output.get<bool>("Final Checkpoint");
   scene.density_variation_limit = list.sublist("Checks").get<double>("Density Variation Limit");
-
-  const auto& parallel = list.sublist("Parallel");
-  scene.grid_decomposition = parallel.get<std::string>("Decomposition") == "grid";
-  const auto grid = parallel.get<Array<int>>("Process Grid");
-  scene.process_grid.assign(grid.begin(), grid.end());
-  const char* cut_names[3] = {"X Cuts", "Y Cuts", "Z Cuts"};
-  for (int d = 0; d < 3; ++d) {
-    const auto cuts = parallel.get<Array<double>>(cut_names[d]);
-    scene.cuts[d].assign(cuts.begin(), cuts.end());
-  }
-  if (!scene.grid_decomposition && (!scene.process_grid.empty() || !scene.cuts[0].empty() || !scene.cuts[1].empty() ||
-                                    !scene.cuts[2].empty()))
-    fail("Parallel/Process Grid and the cuts apply to Parallel/Decomposition = grid");
 
   const auto samples = list.sublist("Diagnostics").get<Array<double>>("Profile Sample Times");
   scene.profile_sample_times.assign(samples.begin(), samples.end());

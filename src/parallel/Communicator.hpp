@@ -3,6 +3,7 @@
 // itself. One process, MPI_COMM_SELF or any communicator: the same code.
 #include <mpi.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,66 @@ class Communicator {
     MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_LONG_LONG, MPI_SUM, comm_);
   }
   void sum(double* values, int n) const { MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_SUM, comm_); }
+
+  double min(double x) const { return reduce(x, MPI_MIN); }
+  // The sum modulo 2^64 (of checksums).
+  std::uint64_t sum_modulo(std::uint64_t x) const {
+    std::uint64_t r = 0;
+    MPI_Allreduce(&x, &r, 1, MPI_UINT64_T, MPI_SUM, comm_);
+    return r;
+  }
+  // The sum of x over the ranks before this one (0 on rank 0).
+  long long sum_before(long long x) const {
+    long long r = 0;
+    MPI_Exscan(&x, &r, 1, MPI_LONG_LONG, MPI_SUM, comm_);
+    return rank_ == 0 ? 0 : r;
+  }
+  // Every rank's values, concatenated in rank order, on rank 0 (empty
+  // elsewhere); at most 2^31 - 1 of them in all, MPI counting in int.
+  std::vector<long long> gather(const std::vector<long long>& values) const {
+    const long long count = static_cast<long long>(values.size());
+    std::vector<long long> counts(size_);
+    MPI_Gather(&count, 1, MPI_LONG_LONG, counts.data(), 1, MPI_LONG_LONG, 0, comm_);
+    std::vector<int> lengths(size_), offsets(size_, 0);
+    long long total = 0;
+    for (int r = 0; r < size_; ++r) {
+      lengths[r] = static_cast<int>(counts[r]);
+      offsets[r] = static_cast<int>(total);
+      total += counts[r];
+    }
+    std::vector<long long> all(rank_ == 0 ? static_cast<size_t>(total) : 0);
+    MPI_Gatherv(values.data(), static_cast<int>(count), MPI_LONG_LONG, all.data(), lengths.data(), offsets.data(),
+                MPI_LONG_LONG, 0, comm_);
+    return all;
+  }
+  // Rank 0's flag, on every rank.
+  bool broadcast(bool flag) const {
+    int value = flag ? 1 : 0;
+    MPI_Bcast(&value, 1, MPI_INT, 0, comm_);
+    return value != 0;
+  }
+
+  // The processes of this communicator on this machine (which share its memory).
+  int on_this_machine() const {
+    MPI_Comm machine;
+    MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &machine);
+    int n = 1;
+    MPI_Comm_size(machine, &n);
+    MPI_Comm_free(&machine);
+    return n;
+  }
+  // The problem of the lowest rank that has one, on every rank ("" when none has):
+  // a refusal found on some processes is every process's.
+  std::string first_problem(const std::string& problem) const {
+    int first = problem.empty() ? size_ : rank_;
+    MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm_);
+    if (first == size_) return "";
+    int length = static_cast<int>(problem.size());
+    MPI_Bcast(&length, 1, MPI_INT, first, comm_);
+    std::string message = rank_ == first ? problem : std::string(static_cast<size_t>(length), '\0');
+    MPI_Bcast(message.data(), length, MPI_CHAR, first, comm_);
+    return message;
+  }
 
   // Every rank's text, concatenated in rank order, on rank 0 (empty elsewhere).
   std::string gather_text(const std::string& text) const {

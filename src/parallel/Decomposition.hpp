@@ -2,7 +2,9 @@
 // Which process owns which part of the unit cell: one axis-aligned box per
 // rank, the boxes tiling the cell. In a direction bounded by walls the outer
 // faces reach to infinity, so that wall particles beyond the cell have owners.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -101,5 +103,53 @@ class Decomposition {
   std::array<double, Dim> cell_{};
   std::array<bool, Dim> periodic_{};
 };
+
+// The paper's process grid: n_0 x n_1 (x n_2) boxes, the grid given
+// (Parallel/Process Grid) or else the factorisation of `ranks` whose boxes
+// are closest to cubes, cut where given (Parallel/X Cuts, ...) or equally.
+template <int Dim>
+Decomposition<Dim> grid_decomposition(const std::array<double, Dim>& cell, const std::array<bool, Dim>& periodic,
+                                      int ranks, const std::vector<int>& process_grid,
+                                      const std::array<std::vector<double>, Dim>& given_cuts) {
+  std::array<int, Dim> grid{};
+  if (!process_grid.empty()) {
+    if (static_cast<int>(process_grid.size()) != Dim)
+      throw std::invalid_argument("Parallel/Process Grid needs one count per direction");
+    for (int d = 0; d < Dim; ++d) grid[d] = process_grid[d];
+  } else {
+    // The factorisation of `ranks` whose boxes are closest to cubes.
+    double best = std::numeric_limits<double>::infinity();
+    std::array<int, Dim> g{};
+    auto search = [&](auto&& self, int d, int left) -> void {
+      if (d == Dim - 1) {
+        g[d] = left;
+        double worst = 1;
+        for (int a = 0; a < Dim; ++a)
+          for (int b = 0; b < Dim; ++b) worst = std::max(worst, (cell[a] / g[a]) / (cell[b] / g[b]));
+        if (worst < best) best = worst, grid = g;
+        return;
+      }
+      for (int n = 1; n <= left; ++n)
+        if (left % n == 0) g[d] = n, self(self, d + 1, left / n);
+    };
+    search(search, 0, ranks);
+  }
+  std::array<std::vector<double>, Dim> cuts;
+  int product = 1;
+  for (int d = 0; d < Dim; ++d) {
+    product *= grid[d];
+    cuts[d] = given_cuts[d].empty() ? Decomposition<Dim>::equal_cuts(cell[d], grid[d]) : given_cuts[d];
+    if (static_cast<int>(cuts[d].size()) != grid[d] + 1 || cuts[d].front() != 0 || cuts[d].back() != cell[d] ||
+        !std::is_sorted(cuts[d].begin(), cuts[d].end()))
+      throw std::invalid_argument("Parallel cuts along direction " + std::to_string(d) + " must run from 0 to the "
+                                  "cell side in increasing order, one more than the process grid's count");
+  }
+  if (product != ranks)
+    throw std::invalid_argument("Parallel/Process Grid holds " + std::to_string(product) + " processes, the run has " +
+                                std::to_string(ranks));
+  auto decomposition = Decomposition<Dim>::cartesian(cell, periodic, cuts);
+  decomposition.check(ranks);
+  return decomposition;
+}
 
 }  // namespace poresph

@@ -4,6 +4,7 @@
 // geometry, physics and app layers read (hence its own folder, below them
 // all but core).
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -33,6 +34,20 @@ struct ImageConfig {
   // The signed distance to the solid's surface at the voxel centres (m),
   // made once from the voxels (surface_distance, geometry/DistanceTransform.hpp).
   std::shared_ptr<const std::vector<float>> distance;
+  // Where a process holds only its piece of the image (scene/ImagePieces.hpp):
+  // the cell's voxel of the piece's voxel 0 (below 0 in a halo across a
+  // periodic face), and per axis whether the piece is the whole periodic
+  // axis and wraps as the cell does. The whole image: 0, and the cell's own.
+  std::array<long long, 3> piece_first{};
+  std::array<bool, 3> piece_wraps{{true, true, true}};
+  // The voxels this process's box owns (each voxel is one box's); empty:
+  // all of them (the whole image).
+  VoxelBox owned;
+  // The whole image's shape (after Image/Mirror) and the checksum of its
+  // solid voxels (io/Checksum.hpp's row checksum, a voxel a row), summed
+  // over the pieces: what a checkpoint's fingerprint names the image by.
+  std::array<long long, 3> cell_voxels{{0, 0, 1}};
+  std::uint64_t solid_checksum = 0;
   // Per axis the image is driven along: the width (m) its widest pore path
   // that way narrows to, from the distance field (0: not driven that way).
   std::array<double, 3> bottleneck{};

@@ -1,0 +1,457 @@
+#!/usr/bin/python3
+"""Linear solvers for the steady fixed-particle SPH equations, measured on the
+exact Jacobian that poresph_export_jacobian writes (docs/steady_solver.md).
+
+    study.py PREFIX METHOD [options]
+
+PREFIX is what poresph_export_jacobian was given (PREFIX_J.txt, ...). The
+system is the Newton step at the scene's start state, bordered by the uniform
+density drift lambda (see `bordered`). Every method reports its iterations to
+a relative residual of --tol and k against the direct solution.
+
+Methods:
+  direct           bordered and unbordered sparse LU; k, mean density change, LU fill
+  lsc              FGMRES, block-triangular, exact A^-1, Schur by LSC with exact (DG)^-1
+  simple           as lsc, Schur by D diag(A)^-1 G, exact
+  scaled-identity  as lsc, Schur by s I (s: the Schur complement on a smooth mode)
+  lsc-inner        as lsc, (DG)^-1 by unpreconditioned GMRES to --inner-tol; counts DG products
+  stabilised       pressure stabilisation beta T (T: compact Laplacian): k shift, and
+                   FGMRES on the stabilised and true systems with Schur s I + beta T
+  schwarz          two-level restricted additive Schwarz: blocks of --block points,
+                   --overlap, coarse space one constant per block and unknown
+  two-grid         Schwarz smoothing and a coarse correction by the Jacobian of the same
+                   scene at twice the spacing (--coarse PREFIX), bilinear transfer
+  inner            A with Jacobi against a compact-Laplacian preconditioner; DG with none
+                   against the inverse of its interior symbol by FFT
+Needs NumPy and SciPy (python3-numpy, python3-scipy).
+"""
+import argparse
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+
+def load(prefix):
+    info = {}
+    for line in open(prefix + "_info.txt"):
+        key, *values = line.split()
+        info[key] = [float(x) for x in values] if len(values) > 1 else float(values[0])
+    dim, fluid = int(info["dim"]), int(info["nf"])
+    entries = np.loadtxt(prefix + "_J.txt")
+    size = fluid * (dim + 1)
+    J = sp.csr_matrix((entries[:, 2], (entries[:, 0].astype(int), entries[:, 1].astype(int))), shape=(size, size))
+    R0 = np.loadtxt(prefix + "_R0.txt")
+    lattice = np.loadtxt(prefix + "_particles.txt")[:, dim:2 * dim].astype(int)
+    return info, J, R0, lattice
+
+
+def permeability(info, u):
+    """k = nu <v> / F along the body force, from the velocity unknowns of u."""
+    dim = int(info["dim"])
+    force = np.atleast_1d(info["F"])
+    axis = int(np.argmax(np.abs(force)))
+    mean_velocity = u[axis:len(u) - len(u) % (dim + 1):dim + 1].sum() * info["dx"] ** dim / info["volume"]
+    return info["nu"] * mean_velocity / force[axis]
+
+
+def fgmres(apply, b, precondition, tol, maxit, restart=None):
+    """Right-preconditioned flexible GMRES; returns x, iterations, residual history."""
+    restart = restart or maxit
+    x = np.zeros_like(b)
+    norm_b = np.linalg.norm(b)
+    if norm_b == 0:
+        return x, 0, [0.0]
+    iterations, history = 0, [1.0]
+    while iterations < maxit and history[-1] > tol:
+        r = b - apply(x)
+        beta = np.linalg.norm(r)
+        if beta == 0:
+            history.append(0.0)
+            break
+        V, Z = [r / beta], []
+        H = np.zeros((restart + 1, restart))
+        g = np.zeros(restart + 1)
+        g[0] = beta
+        rotations = []
+        for j in range(restart):
+            Z.append(precondition(V[j]))
+            w = apply(Z[j])
+            for i in range(j + 1):
+                H[i, j] = w @ V[i]
+                w = w - H[i, j] * V[i]
+            H[j + 1, j] = np.linalg.norm(w)
+            V.append(w / H[j + 1, j] if H[j + 1, j] > 0 else w)
+            for i, (c, s) in enumerate(rotations):
+                H[i, j], H[i + 1, j] = c * H[i, j] + s * H[i + 1, j], -s * H[i, j] + c * H[i + 1, j]
+            d = np.hypot(H[j, j], H[j + 1, j])
+            c, s = H[j, j] / d, H[j + 1, j] / d
+            rotations.append((c, s))
+            H[j, j], H[j + 1, j] = d, 0.0
+            g[j + 1], g[j] = -s * g[j], c * g[j]
+            iterations += 1
+            history.append(abs(g[j + 1]) / norm_b)
+            if history[-1] <= tol or iterations >= maxit:
+                break
+        k = len(Z)
+        y = np.linalg.solve(np.triu(H[:k, :k]), g[:k])
+        for i in range(k):
+            x += y[i] * Z[i]
+    return x, iterations, history
+
+
+class System:
+    """The Newton system at the start state, its blocks and its border.
+
+    The SPH continuity equation is not conservative at walls, so the marched
+    steady state keeps a uniform density drift lambda: the rates are zero up
+    to d rho/dt = lambda. The bordered system J u + e lambda = -R0,
+    e . u = 0 (e: the density unknowns, normalised) is what the march solves.
+    """
+
+    def __init__(self, prefix):
+        self.info, J, self.R0, self.lattice = load(prefix)
+        self.dim = int(self.info["dim"])
+        self.shape = np.array([int(v) for v in np.atleast_1d(self.info["N"])])
+        U = self.dim + 1
+        n = J.shape[0] // U
+        self.n = n
+        self.velocity = np.sort(np.concatenate([np.arange(n) * U + q for q in range(self.dim)]))
+        self.density = np.arange(n) * U + self.dim
+        self.J = J.tocsr()
+        self.A = self.J[self.velocity][:, self.velocity].tocsc()
+        self.G = self.J[self.velocity][:, self.density].tocsc()
+        self.D = self.J[self.density][:, self.velocity].tocsc()
+        e = np.zeros(J.shape[0])
+        e[self.density] = 1.0 / np.sqrt(n)
+        self.border = e
+        column = sp.csr_matrix(e.reshape(-1, 1))
+        self.Jb = sp.bmat([[self.J, column], [column.T, None]]).tocsr()
+        self.b = np.append(-self.R0, 0.0)
+        self.reference = spla.spsolve(self.Jb.tocsc(), self.b)
+        self.k = permeability(self.info, self.reference[:-1])
+
+    def block_preconditioner(self, schur_solve, velocity_solve):
+        """Block upper-triangular [[A, G], [0, S]]^-1 with the border handled:
+        lambda takes the mean of the density residual, the mean density change
+        comes from the border row."""
+        n = self.n
+
+        def apply(r):
+            rv, rp, border = r[self.velocity], r[self.density].copy(), r[-1]
+            drift = rp.sum() / np.sqrt(n)
+            rp -= drift / np.sqrt(n)
+            p = schur_solve(rp)
+            p += border / np.sqrt(n) - p.mean()
+            z = np.empty_like(r)
+            z[self.velocity] = velocity_solve(rv - self.G @ p)
+            z[self.density] = p
+            z[-1] = drift
+            return z
+
+        return apply
+
+    def compact_laplacian(self, neumann=True):
+        """The 2d+1-point graph Laplacian on the fluid lattice points (periodic):
+        Neumann (only fluid neighbours count) or Dirichlet (solid neighbours count
+        on the diagonal)."""
+        index = -np.ones(self.shape, dtype=int)
+        index[tuple(self.lattice.T)] = np.arange(self.n)
+        rows, cols, vals = [], [], []
+        everyone = np.arange(self.n)
+        for q in range(self.dim):
+            for step in (-1, 1):
+                shifted = self.lattice.copy()
+                shifted[:, q] = (shifted[:, q] + step) % self.shape[q]
+                neighbour = index[tuple(shifted.T)]
+                fluid = neighbour >= 0
+                diagonal = fluid if neumann else np.ones(self.n, dtype=bool)
+                rows += [everyone[diagonal], everyone[fluid]]
+                cols += [everyone[diagonal], neighbour[fluid]]
+                vals += [np.ones(diagonal.sum()), -np.ones(fluid.sum())]
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(self.n, self.n))
+
+
+def report(label, system, x, iterations, history, seconds, extra=""):
+    error = permeability(system.info, x[:-1]) / system.k - 1
+    print(f"  {label}: {iterations} iterations, residual {history[-1]:.1e}, k {error:+.1e} from direct, "
+          f"{seconds:.1f} s{extra}")
+
+
+def smooth_mode_schur(system, A_lu):
+    x = np.cos(2 * np.pi * system.lattice[:, 0] / (system.shape[0] / 2))
+    x -= x.mean()
+    return (x @ (-system.D @ A_lu.solve(system.G @ x))) / (x @ x)
+
+
+def method_direct(system, args):
+    t = time.time()
+    lu = spla.splu(system.Jb.tocsc(), permc_spec="MMD_AT_PLUS_A")
+    seconds = time.time() - t
+    fill = lu.L.nnz + lu.U.nnz
+    unbordered = spla.spsolve(system.J.tocsc(), -system.R0)
+    rho0 = system.info["rho0"]
+    print(f"  bordered: k {system.k:.6e}, drift lambda {system.reference[-1]:.3e}, "
+          f"mean density change {system.reference[system.density].mean() / rho0:+.1e} rho0")
+    print(f"  unbordered: k {permeability(system.info, unbordered):.6e}, "
+          f"mean density change {unbordered[system.density].mean() / rho0:+.1e} rho0")
+    print(f"  LU of the bordered system: {seconds:.1f} s, fill {fill:.3e} ({fill / system.Jb.shape[0]:.0f} a row; "
+          f"the matrix has {system.Jb.nnz / system.Jb.shape[0]:.0f})")
+
+
+def krylov_with_schur(system, args, schur_solve, label):
+    A_lu = spla.splu(system.A)
+    t = time.time()
+    M = system.block_preconditioner(schur_solve, A_lu.solve)
+    x, its, hist = fgmres(lambda y: system.Jb @ y, system.b, M, args.tol, args.maxit, args.restart)
+    report(label, system, x, its, hist, time.time() - t)
+
+
+def dg_operators(system):
+    inverse_diagonal = sp.diags(1.0 / system.A.diagonal())
+    DG = (system.D @ inverse_diagonal @ system.G).tocsc()
+    DAG = (system.D @ inverse_diagonal @ system.A @ inverse_diagonal @ system.G).tocsr()
+    return DG, DAG
+
+
+def exact_dg_solver(DG):
+    shift = 1e-12 * abs(DG.diagonal()).max()
+    return spla.splu((DG + shift * sp.identity(DG.shape[0])).tocsc()).solve
+
+
+def method_lsc(system, args):
+    DG, DAG = dg_operators(system)
+    solve = exact_dg_solver(DG)
+    krylov_with_schur(system, args, lambda rp: -solve(DAG @ solve(rp)), "LSC, exact (DG)^-1")
+
+
+def method_simple(system, args):
+    DG, _ = dg_operators(system)
+    solve = exact_dg_solver(DG)
+    krylov_with_schur(system, args, lambda rp: -solve(rp), "Schur -D diag(A)^-1 G, exact")
+
+
+def method_scaled_identity(system, args):
+    s = smooth_mode_schur(system, spla.splu(system.A))
+    krylov_with_schur(system, args, lambda rp: rp / s, f"Schur s I (s = {s:.3e})")
+
+
+def method_lsc_inner(system, args):
+    DG, DAG = dg_operators(system)
+    products = [0]
+
+    def dg(y):
+        products[0] += 1
+        return DG @ y
+
+    def solve(r):
+        r = r - r.mean()
+        x, _, _ = fgmres(dg, r, lambda z: z, args.inner_tol, 2000)
+        return x - x.mean()
+
+    krylov_with_schur(system, args, lambda rp: -solve(DAG @ solve(rp)), f"LSC, (DG)^-1 by GMRES to {args.inner_tol:g}")
+    print(f"  DG products: {products[0]}")
+
+
+def method_stabilised(system, args):
+    A_lu = spla.splu(system.A)
+    s = smooth_mode_schur(system, A_lu)
+    y = np.random.default_rng(0).standard_normal(system.n)
+    for _ in range(30):
+        y = -system.D @ A_lu.solve(system.G @ y)
+        top = np.linalg.norm(y)
+        y /= top
+    L = system.compact_laplacian()
+    print(f"  Schur on a smooth mode {s:.3e}, largest |eigenvalue| about {top:.3e}")
+    for beta in args.beta:
+        T = np.sign(s) * beta * top / (2 * system.dim) * L
+        stabilisation = sp.lil_matrix(system.Jb.shape)
+        stabilisation[np.ix_(system.density, system.density)] = T
+        stabilised = (system.Jb + stabilisation.tocsr()).tocsr()
+        k_stabilised = permeability(system.info, spla.spsolve(stabilised.tocsc(), system.b)[:-1])
+        schur_lu = spla.splu((s * sp.identity(system.n) + T).tocsc())
+        M = system.block_preconditioner(schur_lu.solve, A_lu.solve)
+        print(f"  beta {beta:g}: k of the stabilised system {k_stabilised / system.k - 1:+.2e} from the true one")
+        for label, matrix in [("stabilised", stabilised), ("true", system.Jb)]:
+            t = time.time()
+            x, its, hist = fgmres(lambda v: matrix @ v, system.b, M, args.tol, args.maxit, args.restart)
+            report(f"  {label} system, Schur s I + beta T", system, x, its, hist, time.time() - t)
+
+
+def schwarz_patches(system, block, overlap):
+    """Non-overlapping blocks of block^d lattice points, each extended by overlap;
+    the inverse of the Jacobian on each extended block, and which rows it owns."""
+    U = system.dim + 1
+    blocks = system.lattice // block
+    block_id = np.ravel_multi_index(tuple(blocks.T), tuple((system.shape + block - 1) // block))
+    patches = []
+    for b in np.unique(block_id):
+        owned = np.where(block_id == b)[0]
+        lo = blocks[owned[0]] * block - overlap
+        width = block + 2 * overlap
+        members = np.where(np.all((system.lattice - lo) % system.shape < width, axis=1))[0]
+        unknowns = (members[:, None] * U + np.arange(U)).ravel()
+        owns = np.repeat(np.isin(members, owned), U)
+        patches.append((unknowns, owns, np.linalg.inv(system.Jb[unknowns][:, unknowns].toarray())))
+    return block_id, patches
+
+
+def restricted_additive_schwarz(patches):
+    def apply(r):
+        z = np.zeros_like(r)
+        for unknowns, owns, inverse in patches:
+            local = inverse @ r[unknowns]
+            z[unknowns[owns]] += local[owns]
+        return z
+
+    return apply
+
+
+def method_schwarz(system, args):
+    U = system.dim + 1
+    t = time.time()
+    block_id, patches = schwarz_patches(system, args.block, args.overlap)
+    ras = restricted_additive_schwarz(patches)
+    _, coarse_of = np.unique(block_id, return_inverse=True)
+    coarse = coarse_of.max() + 1
+    rows = np.append(np.arange(system.n * U), system.n * U)
+    cols = np.append((coarse_of[:, None] * U + np.arange(U)).ravel(), coarse * U)
+    Phi = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(system.n * U + 1, coarse * U + 1))
+    coarse_inverse = np.linalg.inv((Phi.T @ system.Jb @ Phi).toarray())
+
+    def two_level(r):
+        z = Phi @ (coarse_inverse @ (Phi.T @ r))
+        return z + ras(r - system.Jb @ z)
+
+    setup = time.time() - t
+    for label, M in [("one-level RAS", ras), ("two-level RAS", two_level)]:
+        t = time.time()
+        x, its, hist = fgmres(lambda y: system.Jb @ y, system.b, M, args.tol, args.maxit, args.restart)
+        report(label, system, x, its, hist, time.time() - t,
+               f" ({len(patches)} patches, coarse {coarse * U + 1}, setup {setup:.1f} s)")
+
+
+def method_two_grid(system, args):
+    coarse = System(args.coarse)
+    U = system.dim + 1
+    coarse_index = -np.ones(coarse.shape, dtype=int)
+    coarse_index[tuple(coarse.lattice.T)] = np.arange(coarse.n)
+    rows, cols, vals = [], [], []
+    for p in range(system.n):  # bilinear from the coarse fluid points, renormalised over them
+        position = (system.lattice[p] - 0.5) / 2.0
+        base = np.floor(position).astype(int)
+        frac = position - base
+        weights, points = [], []
+        for corner in range(2 ** system.dim):
+            offset = np.array([(corner >> q) & 1 for q in range(system.dim)])
+            w = np.prod(np.where(offset == 1, frac, 1 - frac))
+            c = coarse_index[tuple((base + offset) % coarse.shape)]
+            if c >= 0 and w > 0:
+                weights.append(w)
+                points.append(c)
+        if not points:
+            distance = np.abs((coarse.lattice - position + coarse.shape / 2) % coarse.shape - coarse.shape / 2).sum(1)
+            weights, points = [1.0], [int(np.argmin(distance))]
+        weights = np.array(weights) / sum(weights)
+        for w, c in zip(weights, points):
+            rows += [p * U + q for q in range(U)]
+            cols += [c * U + q for q in range(U)]
+            vals += [w] * U
+    rows.append(system.n * U)
+    cols.append(coarse.n * U)
+    vals.append(1.0)
+    prolong = sp.csr_matrix((vals, (rows, cols)), shape=(system.n * U + 1, coarse.n * U + 1))
+    restrict = (sp.diags(1.0 / np.maximum(np.asarray(prolong.sum(0)).ravel(), 1e-300)) @ prolong.T).tocsr()
+    coarse_lu = spla.splu(coarse.Jb.tocsc())
+    _, patches = schwarz_patches(system, args.block, args.overlap)
+    ras = restricted_additive_schwarz(patches)
+
+    def cycle(r):
+        z = ras(r)
+        z = z + prolong @ coarse_lu.solve(restrict @ (r - system.Jb @ z))
+        return z + ras(r - system.Jb @ z)
+
+    t = time.time()
+    x, its, hist = fgmres(lambda y: system.Jb @ y, system.b, cycle, args.tol, args.maxit, args.restart)
+    report("two-grid, RAS smoothing, rediscretised coarse Jacobian", system, x, its, hist, time.time() - t)
+
+
+def method_inner(system, args):
+    rng = np.random.default_rng(1)
+    A = system.A.tocsr()
+    diagonal = A.diagonal()
+    laplacian = system.compact_laplacian(neumann=False).tocsc()
+    scale = -diagonal.mean() / laplacian.diagonal().mean()
+    laplacian_lu = spla.splu(laplacian)
+
+    def compact(r):
+        z = np.empty_like(r)
+        for q in range(system.dim):
+            z[q::system.dim] = laplacian_lu.solve(r[q::system.dim]) / scale
+        return z
+
+    b = rng.standard_normal(A.shape[0])
+    for label, M in [("A, Jacobi", lambda r: r / diagonal), ("A, compact Dirichlet Laplacian", compact)]:
+        t = time.time()
+        _, its, hist = fgmres(lambda y: A @ y, b, M, args.tol, args.maxit)
+        print(f"  {label}: {its} iterations, residual {hist[-1]:.1e}, {time.time() - t:.1f} s")
+    DG, _ = dg_operators(system)
+    DG = DG.tocsr()
+    widths = np.diff(DG.indptr)
+    interior = np.where(widths == widths.max())[0]
+    row = interior[len(interior) // 2]
+    stencil = np.zeros(system.shape)
+    for j, value in zip(DG.indices[DG.indptr[row]:DG.indptr[row + 1]], DG.data[DG.indptr[row]:DG.indptr[row + 1]]):
+        stencil[tuple((system.lattice[j] - system.lattice[row]) % system.shape)] += value
+    symbol = np.real(np.fft.fftn(stencil))
+    inverse_symbol = np.where(np.abs(symbol) > 1e-12 * np.abs(symbol).max(), 1.0 / np.where(symbol == 0, 1, symbol), 0)
+
+    def fft(r):
+        g = np.zeros(system.shape)
+        g[tuple(system.lattice.T)] = r
+        z = np.real(np.fft.ifftn(np.fft.fftn(g) * inverse_symbol))[tuple(system.lattice.T)]
+        return z - z.mean()
+
+    b = rng.standard_normal(system.n)
+    b -= b.mean()
+    for label, M in [("DG, none", lambda r: r), ("DG, FFT of the interior symbol", fft)]:
+        t = time.time()
+        _, its, hist = fgmres(lambda y: DG @ y, b, M, args.tol, args.maxit)
+        print(f"  {label}: {its} iterations, residual {hist[-1]:.1e}, {time.time() - t:.1f} s")
+
+
+METHODS = {
+    "direct": method_direct,
+    "lsc": method_lsc,
+    "simple": method_simple,
+    "scaled-identity": method_scaled_identity,
+    "lsc-inner": method_lsc_inner,
+    "stabilised": method_stabilised,
+    "schwarz": method_schwarz,
+    "two-grid": method_two_grid,
+    "inner": method_inner,
+}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("prefix")
+    parser.add_argument("method", choices=sorted(METHODS))
+    parser.add_argument("--tol", type=float, default=1e-6)
+    parser.add_argument("--maxit", type=int, default=400)
+    parser.add_argument("--restart", type=int, default=None, help="GMRES restart (default: none)")
+    parser.add_argument("--inner-tol", type=float, default=1e-2)
+    parser.add_argument("--beta", type=float, nargs="+", default=[1e-3, 1e-2, 1e-1])
+    parser.add_argument("--block", type=int, default=8)
+    parser.add_argument("--overlap", type=int, default=4)
+    parser.add_argument("--coarse", help="PREFIX of the same scene at twice the spacing (two-grid)")
+    args = parser.parse_args()
+    system = System(args.prefix)
+    print(f"{args.prefix}: {system.n} fluid particles, {system.Jb.shape[0]} unknowns, k {system.k:.6e}")
+    METHODS[args.method](system, args)
+
+
+if __name__ == "__main__":
+    main()
