@@ -245,19 +245,45 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood_only() {
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::built_neighbourhood() {
-  if (fixed_) neighbourhood_.list().cache_geometry(space_, particles_.x, particles_.owned, kernel_);
+  if (extrapolate_walls_) wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
+  if (fixed_) find_pair_geometry();
   if (fixed_ && particles_.has_surfaces)
     no_slip_factors_.build(space_, particles_, neighbourhood_.list(), fluid_.min_surface_distance);
   else
     no_slip_factors_.clear();
-  if (extrapolate_walls_) {
-    wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
-    if (fixed_) wall_neighbours_.cache_geometry(space_, particles_.x, particles_.owned, kernel_);
-  }
   // Fixed particles' volumes use rho0: with one mass, m and 1/rho are constants of the pair loop.
   pair_options_.uniform_mass = fixed_ ? common_mass(space_, particles_, particles_.total()) : 0.0;
   pair_options_.uniform_inverse_density = pair_options_.uniform_mass > 0 ? 1.0 / volume_density_ : 0.0;
   pair_sums_.reserve(particles_.owned);
+}
+
+// The stencil where every entry of both lists, on every process, is a
+// lattice offset: then the run reads the same table everywhere, whatever the
+// process count. Else every process caches each entry's geometry.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::find_pair_geometry() {
+  if (pair_stencil_.size() == 0) {
+    std::array<double, Dim> spacing{};
+    spacing.fill(scene_.particle_spacing);  // the lattice is square (cubic): geometry/Lattice.hpp
+    const auto kernel = kernel_;
+    pair_stencil_ = LatticeStencil<Dim, MemorySpace>(spacing, neighbourhood_.reach(),
+                                                     [&](double r) { return kernel.derivative_over_r(r); });
+    if (extrapolate_walls_)
+      wall_stencil_ = LatticeStencil<Dim, MemorySpace>(spacing, neighbourhood_.reach(),
+                                                       [&](double r) { return kernel.value(r); });
+  }
+  auto& list = neighbourhood_.list();
+  const auto& x = particles_.x;
+  const int owned = particles_.owned;
+  bool lattice = list.find_stencil_ids(space_, x, owned, pair_stencil_);
+  if (extrapolate_walls_) lattice = wall_neighbours_.find_stencil_ids(space_, x, owned, wall_stencil_) && lattice;
+  if (!comm_.any(!lattice)) {
+    list.use_stencil(pair_stencil_);
+    if (extrapolate_walls_) wall_neighbours_.use_stencil(wall_stencil_);
+  } else {
+    list.cache_geometry(space_, x, owned, kernel_);
+    if (extrapolate_walls_) wall_neighbours_.cache_geometry(space_, x, owned, kernel_);
+  }
 }
 
 template <int Dim, class ExecSpace>

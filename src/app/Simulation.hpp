@@ -144,6 +144,9 @@ class Simulation {
   // Neighbour-list rebuilds so far (the list is kept while particles move less than half the skin).
   long long neighbour_rebuilds() const { return neighbourhood_.builds(); }
   long long neighbour_pairs() const { return neighbourhood_.list().pairs(); }
+  // Fixed particles, once the list is built: whether the pairs' geometry is
+  // read from the lattice stencil (else from the per-entry cache).
+  bool pairs_on_stencil() const { return neighbourhood_.list().on_stencil(); }
   // Listed neighbours (support and skin) per owned particle, counting both ends of a half list's pairs.
   double neighbours_per_particle() const { return neighbourhood_.list().neighbours_per_particle(); }
 
@@ -183,6 +186,7 @@ class Simulation {
   // What rests on a fresh neighbourhood: the cached pair geometry of fixed
   // particles, the boundary particles' fluid neighbours, room for the sums.
   void built_neighbourhood();
+  void find_pair_geometry();  // fixed particles: the lists' geometry, from the stencil or per entry
   // The stages of a step, in order (step_stages()).
   void make_step_stages();
   void predict_stage();          // "predict": to the mid-point with the old rates
@@ -209,6 +213,9 @@ class Simulation {
   Neighbourhood<Dim, ExecSpace> neighbourhood_;  // ghosts, cells, the pair list
   WallNeighbours<Dim, ExecSpace> wall_neighbours_;  // with an extrapolated wall pressure
   NoSlipFactors<Dim, ExecSpace> no_slip_factors_;   // fixed particles with surfaces, per list entry
+  // Fixed particles: the lattice offsets within the lists' reach with F =
+  // (1/r) dW/dr (pair list) and W (wall list), built with the first list.
+  LatticeStencil<Dim, MemorySpace> pair_stencil_, wall_stencil_;
   PairSums<ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;
