@@ -28,9 +28,11 @@ class NeighbourList {
   using MemorySpace = typename ExecSpace::memory_space;
   using IndexView = Kokkos::View<int*, MemorySpace>;
 
+  // room_to_grow: a quarter more entries than found, for the rebuilds of
+  // moving particles; a list built once (fixed particles) holds what it has.
   template <class PositionView>
   void build(const ExecSpace& space, const CellList<Dim, ExecSpace>& cells, const PositionView& x, int owned,
-             double radius) {
+             double radius, bool room_to_grow = true) {
     if (static_cast<int>(offsets_.extent(0)) < owned + 1) {
       offsets_ = IndexView("NeighbourList::offsets", owned + owned / 4 + 1);
       ghosts_begin_ = IndexView("NeighbourList::ghosts_begin", owned + owned / 4 + 1);
@@ -58,7 +60,8 @@ class NeighbourList {
           if (final) offsets(i) = running;
         },
         total);
-    if (static_cast<int>(indices_.extent(0)) < total) indices_ = IndexView("NeighbourList::indices", total + total / 4);
+    if (static_cast<int>(indices_.extent(0)) < total)
+      indices_ = IndexView("NeighbourList::indices", room_to_grow ? total + total / 4 : total);
     const auto indices = indices_;
     static const std::string label_fill = "poresph::NeighbourList::fill";
     Kokkos::parallel_for(
