@@ -2,6 +2,7 @@
 // without walls or body force; angular momentum through the pair loop.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -98,7 +99,7 @@ struct FluidCluster {
   QuinticKernel<2> kernel;
   CellList<2, Space> cells;
   NeighbourList<2, Space> neighbours;
-  PairSums<Space> sums{RateComponents<2>::count(false)};
+  PairSums<Space> sums{pair_sum_components<2, Space>(P, PairLoopOptions{})};
 
   template <class Draw>
   FluidCluster(const Space& space, int n, double h, unsigned seed, Draw&& draw) : kernel(h) {
@@ -167,8 +168,17 @@ TYPED_TEST(Conservation, PressureForcesConserveAngularMomentum) {
   }
 }
 
-// The pair loop forms both ends of a fluid pair at once
-// (PairRates::add_fluid_pair); each particle's rates must be the sums of
+// A particle of a cluster in [0.2, 0.8]^2: small random velocity, density and mass.
+inline void scatter_in_square(std::mt19937& rng, double* x, double* v, double& rho, double& m) {
+  std::uniform_real_distribution<double> u(0, 1);
+  x[0] = 0.2 + 0.6 * u(rng), x[1] = 0.2 + 0.6 * u(rng);
+  v[0] = 0.1 * (u(rng) - 0.5), v[1] = 0.1 * (u(rng) - 0.5);
+  rho = 1.0 + 0.05 * u(rng);
+  m = 1e-3 * (1 + 0.1 * u(rng));
+}
+
+// The pair loop forms both ends of a fluid pair at once (FluidPairWeights
+// in physics/PairDriver.hpp); each particle's rates must be the sums of
 // the per-end terms of physics/PairTerms.hpp over all its neighbours,
 // convection included: a brute-force double loop on random particles.
 TYPED_TEST(Conservation, PairLoopRatesAreTheSumsOfThePerEndTerms) {
@@ -176,13 +186,7 @@ TYPED_TEST(Conservation, PairLoopRatesAreTheSumsOfThePerEndTerms) {
   const Space space;
   const int n = 300;
   const double nu = 0.01;
-  std::uniform_real_distribution<double> u(0, 1);
-  FluidCluster<Space> cluster(space, n, 0.05, 5, [&](std::mt19937& rng, double* x, double* v, double& rho, double& m) {
-    x[0] = 0.2 + 0.6 * u(rng), x[1] = 0.2 + 0.6 * u(rng);
-    v[0] = 0.1 * (u(rng) - 0.5), v[1] = 0.1 * (u(rng) - 0.5);
-    rho = 1.0 + 0.05 * u(rng);
-    m = 1e-3 * (1 + 0.1 * u(rng));
-  });
+  FluidCluster<Space> cluster(space, n, 0.05, 5, scatter_in_square);
   const auto &P = cluster.P, &x = cluster.x, &v = cluster.v, &rho = cluster.rho, &m = cluster.m;
   const auto& kernel = cluster.kernel;
   PairLoopOptions options;
@@ -216,6 +220,93 @@ TYPED_TEST(Conservation, PairLoopRatesAreTheSumsOfThePerEndTerms) {
     for (int d = 0; d < 2; ++d) EXPECT_NEAR(a(i, d), acceleration[d], 1e-13 * scale[d]) << i << " " << d;
   }
   EXPECT_GT(pairs, 10 * n);  // particles with many neighbours: the sums are not near-empty
+}
+
+// A pair term from outside physics/terms/, as a new one is written
+// (docs/code.md): the mass of each particle's neighbours within the support,
+// summed in a component of its own and written out by its finish. The
+// driver runs it beside the core terms; each particle's sum must be the
+// brute-force one, and the core terms' rates what they are without it.
+template <class Space>
+struct NeighbourMassTerm : PairTermBase {
+  static constexpr const char* name = "neighbour_mass";
+  static constexpr int components = 1;
+  // Its own sum grows from pairs of fluid particles too: those take the
+  // general path, one end at a time.
+  static constexpr bool fluid_pair_weights = false;
+  Kokkos::View<double*, typename Space::memory_space> mass;  // what finish writes
+
+  explicit NeighbourMassTerm(const PairTermInputs<2, Space>&) {}
+  template <int Own, class Sums>
+  KOKKOS_FORCEINLINE_FUNCTION void add_to_end(const PairEnd<2>&, const PairEnd<2>& other, const EndGeometry<2>&,
+                                              const SeenVelocity<2>&, const Shared&, Sums& sum, Vec<2>&) const {
+    sum.value[Own] += other.m;
+  }
+  template <class Particles, class Totals>
+  KOKKOS_FORCEINLINE_FUNCTION void finish(const Particles&, int a, bool, const Totals& totals) const {
+    mass(a) = totals.take(0);
+  }
+};
+
+TYPED_TEST(Conservation, AnotherPairTermIsOneStructInTheList) {
+  using Space = TypeParam;
+  const Space space;
+  const int n = 300;
+  FluidCluster<Space> cluster(space, n, 0.05, 7, scatter_in_square);
+  const auto &P = cluster.P, &x = cluster.x, &m = cluster.m;
+  const FluidProperties fluid{0.01, 0.0};
+  const PairLoopOptions options;
+  const NoSlipFactors<2, Space> no_slip;
+  const PairTermInputs<2, Space> inputs{P, fluid, options, no_slip, false};
+  const auto policy = Kokkos::RangePolicy<Space>(space, 0, n);
+
+  using Core = PairTermList<ContinuityTerm<2, Space>, PressureTerm<2, Space>, ViscousTerm<2, Space>>;
+  using WithMass = PairTermList<ContinuityTerm<2, Space>, PressureTerm<2, Space>, ViscousTerm<2, Space>,
+                                NeighbourMassTerm<Space>>;
+  static_assert(pair_detail::sums_of<2, Space>(WithMass{}) == 1 + 2 + 1, "d rho/dt, dv/dt and the term's own sum");
+  using MassOnly = PairDriver<2, Space, NeighbourMassTerm<Space>>;
+  EXPECT_EQ(MassOnly::label(), "poresph::PairRates<neighbour_mass>");
+
+  run_pair_loop(policy, inputs, cluster.neighbours, cluster.sums, cluster.kernel, Core{});
+  run_pair_finish(policy, inputs, cluster.sums, Vec<2>::zero(), Core{});
+  auto core_a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt);
+  auto core_drho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.drhodt);
+
+  PairSums<Space> sums{pair_detail::sums_of<2, Space>(WithMass{})};
+  sums.reserve(n);
+  using Driver = PairDriver<2, Space, ContinuityTerm<2, Space>, PressureTerm<2, Space>, ViscousTerm<2, Space>,
+                            NeighbourMassTerm<Space>>;
+  using Finish = FinishPairRates<2, Space, ContinuityTerm<2, Space>, PressureTerm<2, Space>, ViscousTerm<2, Space>,
+                                 NeighbourMassTerm<Space>>;
+  Driver driver(inputs, cluster.neighbours, sums, cluster.kernel);
+  Finish finish(inputs, sums, Vec<2>::zero());
+  const Kokkos::View<double*, typename Space::memory_space> mass_sums("neighbour_mass", n);
+  driver.NeighbourMassTerm<Space>::mass = mass_sums;
+  finish.NeighbourMassTerm<Space>::mass = mass_sums;
+  Kokkos::parallel_for("test::pair_loop_with_mass", policy, driver);
+  Kokkos::parallel_for("test::finish_with_mass", policy, finish);
+  space.fence();
+  auto mass = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), mass_sums);
+  auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt);
+  auto drho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.drhodt);
+  double drho_scale = 0, a_scale = 0;
+  for (int i = 0; i < n; ++i) {
+    drho_scale = std::max(drho_scale, std::abs(core_drho(i)));
+    for (int d = 0; d < 2; ++d) a_scale = std::max(a_scale, std::abs(core_a(i, d)));
+  }
+  ASSERT_GT(drho_scale, 0);
+  ASSERT_GT(a_scale, 0);
+  for (int i = 0; i < n; ++i) {
+    double expected = 0;
+    for (int j = 0; j < n; ++j) {
+      const double distance = std::hypot(x(i, 0) - x(j, 0), x(i, 1) - x(j, 1));
+      if (j != i && distance < cluster.kernel.cutoff) expected += m(j);
+    }
+    EXPECT_NEAR(mass(i), expected, 1e-15 * expected) << i;
+    // The core terms' rates: the same to rounding (one end at a time instead of both at once).
+    EXPECT_NEAR(drho(i), core_drho(i), 1e-13 * drho_scale) << i;
+    for (int d = 0; d < 2; ++d) EXPECT_NEAR(a(i, d), core_a(i, d), 1e-13 * a_scale) << i;
+  }
 }
 
 }  // namespace

@@ -110,6 +110,29 @@ TYPED_TEST(FixedParticles, CachedPairsGiveTheRatesOfMovingParticles) {
   expect_rates_of_moving_particles<TypeParam>(grain_cell(ParticleMotion::Fixed));
 }
 
+// On the lattice, the pairs' geometry comes from the stencil of lattice
+// offsets (core/PairGeometry.hpp). A cell side that is a whole number of
+// spacings only to the 1e-6 the lattice allows puts the periodic ghosts a
+// little off it: the lists then cache each entry's geometry, and the rates
+// are still those of moving particles.
+TYPED_TEST(FixedParticles, OffTheLatticeThePairsFallBackToThePerEntryCache) {
+  SceneConfig box = testing::periodic_box(2, 30);
+  box.convection = false;
+  box.particle_motion = ParticleMotion::Fixed;
+  for (const double side : {1.0, 1.0 + 1e-7}) {
+    box.cell_size[0] = side;
+    Simulation<2, TypeParam> sim(box);
+    sim.compute_rates();
+    EXPECT_EQ(sim.pairs_on_stencil(), side == 1.0) << side;
+  }
+  expect_rates_of_moving_particles<TypeParam>(box);
+  SceneConfig grains = grain_cell(ParticleMotion::Fixed);
+  grains.wall_pressure = WallPressure::Extrapolated;
+  Simulation<2, TypeParam> on_lattice(grains);
+  on_lattice.compute_rates();
+  EXPECT_TRUE(on_lattice.pairs_on_stencil());
+}
+
 // The wall pressure extrapolated from the fluid reads, for fixed particles,
 // each wall-fluid pair's separation and kernel value cached at the build;
 // moving particles evaluate them at every stage. With the same fluid

@@ -41,6 +41,11 @@ std::map<long long, State> run(const SceneConfig& scene, const Communicator& com
   Simulation<Dim, Kokkos::Serial> sim(scene, Kokkos::Serial(), comm);
   if (stir_amplitude > 0) stir(sim, stir_amplitude);
   for (int s = 0; s < steps; ++s) sim.step();
+  // Fixed particles' pairs, other processes' ghosts and periodic images
+  // among them, are lattice offsets: every process reads the one stencil.
+  if (scene.particle_motion == ParticleMotion::Fixed) {
+    EXPECT_TRUE(sim.pairs_on_stencil()) << "rank " << comm.rank();
+  }
   const auto& P = sim.particles();
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
   auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.v);

@@ -46,6 +46,25 @@ TEST(PairTerms, PairForcesAreAntisymmetric) {
   for (int d = 0; d < 3; ++d) EXPECT_NEAR(m_a * f_ab[d], -m_b * f_ba[d], 1e-15);
 }
 
+// The per-unit-mass weights the pair loop forms once per pair, by hand, and
+// the per-end functions as those weights times the neighbour's mass.
+TEST(PairTerms, WeightsByHand) {
+  const Vec<2> v{{1.0, 2.0}}, r{{0.5, 0.25}};
+  EXPECT_DOUBLE_EQ(continuity_weight<2>(v, r, -3.0), -3.0);  // -3 (0.5 + 0.5)
+  EXPECT_EQ(continuity_rate<2>(2.0, v, r, -3.0), 2.0 * continuity_weight<2>(v, r, -3.0));
+  EXPECT_DOUBLE_EQ(pressure_weight(2.0, 1.0, -0.5), 1.5);  // -(2 + 1)(-0.5)
+  const auto p = pressure_acceleration<2>(2.0, 2.0, 1.0, r, -0.5);
+  for (int d = 0; d < 2; ++d) EXPECT_EQ(p[d], (2.0 * pressure_weight(2.0, 1.0, -0.5)) * r[d]);
+  EXPECT_DOUBLE_EQ(viscous_weight(0.1, 0.5, 0.25, -2.0), -0.15);  // 0.1 (0.5 + 0.25)(-2)
+  const auto visc = viscous_acceleration<2>(3.0, 0.1, 0.5, 0.25, v, -2.0);
+  for (int d = 0; d < 2; ++d) EXPECT_EQ(visc[d], (3.0 * viscous_weight(0.1, 0.5, 0.25, -2.0)) * v[d]);
+  EXPECT_DOUBLE_EQ(convective_weight<2>(0.5, v, r, 4.0), 2.0);  // 0.5 * 4 * (0.5 + 0.5)
+  const auto conv = convective_acceleration<2>(0.5, v, Vec<2>{{3.0, -1.0}}, r, 4.0);
+  EXPECT_DOUBLE_EQ(conv[0], 6.0);
+  EXPECT_DOUBLE_EQ(conv[1], -2.0);
+  EXPECT_DOUBLE_EQ(volume_gradient_weight(0.5, -4.0), -2.0);
+}
+
 TEST(PairTerms, EquationOfStateIsLinear) { EXPECT_DOUBLE_EQ(pressure_from_density(1000.0, 4.0), 4000.0); }
 
 TEST(NoSlip, PlaneWallDistances) {

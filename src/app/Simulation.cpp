@@ -125,8 +125,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
       comm_(comm),
       derived_(derive_parameters(scene)),
       particles_(scene.walls != WallType::None || scene.has_solid(), lagrangian_shifting(scene)),
-      kernel_(derived_.smoothing_length),
-      pair_sums_(RateComponents<Dim>::count(lagrangian_shifting(scene))) {
+      kernel_(derived_.smoothing_length) {
   if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
   fixed_ = scene.particle_motion == ParticleMotion::Fixed;
   convection_ = fixed_ && scene.convection;
@@ -178,11 +177,13 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   pair_options_.convection = convection_;
   extrapolate_walls_ = particles_.has_surfaces && scene.wall_pressure == WallPressure::Extrapolated;
   pair_options_.wall_continuity = !extrapolate_walls_;
+  pair_sums_ = PairSums<ExecSpace>(pair_sum_components<Dim, ExecSpace>(particles_, pair_options_));
   check_grains(scene.grains, scene);
   solid_map_ = make_solid_map<Dim, MemorySpace>(scene, kernel_.cutoff);
 
   const double h = derived_.smoothing_length, dt = derived_.time_step;
   health_limits_ = HealthLimits{scene.density, scene.density_variation_limit, 0.25 * h / dt, h / (16 * dt * dt)};
+  make_step_stages();
   if (start == Start::Empty) return;
 
   const auto seeds = fill_lattice<Dim>(scene, box_lo, box_hi);
@@ -223,73 +224,165 @@ void Simulation<Dim, ExecSpace>::update_wall_pressure() {
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
-  // Fixed particles keep their first list; moving ones until some has gone half the skin.
-  const bool rebuild = !neighbourhood_.built() || (!fixed_ && neighbourhood_.stale(space_, particles_));
-  if (!rebuild) {
-    update_pressure_and_ghosts();
-    return;
-  }
-  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_,
-                  volume_density_);
-  space_.fence();
-  neighbourhood_.rebuild(space_, particles_);
-  built_neighbourhood();
+  refresh_neighbourhood_only();
   update_wall_pressure();
 }
 
 template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::refresh_neighbourhood_only() {
+  // Fixed particles keep their first list; moving ones until some has gone half the skin.
+  const bool rebuild = !neighbourhood_.built() || (!fixed_ && neighbourhood_.stale(space_, particles_));
+  update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_,
+                  volume_density_);
+  space_.fence();
+  if (!rebuild) {
+    neighbourhood_.update_ghosts(particles_);
+    return;
+  }
+  neighbourhood_.rebuild(space_, particles_);
+  built_neighbourhood();
+}
+
+template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::built_neighbourhood() {
-  if (fixed_) neighbourhood_.list().cache_geometry(space_, particles_.x, particles_.owned, kernel_);
+  if (extrapolate_walls_) wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
+  if (fixed_) find_pair_geometry();
   if (fixed_ && particles_.has_surfaces)
     no_slip_factors_.build(space_, particles_, neighbourhood_.list(), fluid_.min_surface_distance);
   else
     no_slip_factors_.clear();
-  if (extrapolate_walls_) {
-    wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
-    if (fixed_) wall_neighbours_.cache_geometry(space_, particles_.x, particles_.owned, kernel_);
-  }
   // Fixed particles' volumes use rho0: with one mass, m and 1/rho are constants of the pair loop.
   pair_options_.uniform_mass = fixed_ ? common_mass(space_, particles_, particles_.total()) : 0.0;
   pair_options_.uniform_inverse_density = pair_options_.uniform_mass > 0 ? 1.0 / volume_density_ : 0.0;
   pair_sums_.reserve(particles_.owned);
 }
 
+// The stencil where every entry of both lists, on every process, is a
+// lattice offset: then the run reads the same table everywhere, whatever the
+// process count. Else every process caches each entry's geometry.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::find_pair_geometry() {
+  if (pair_stencil_.size() == 0) {
+    std::array<double, Dim> spacing{};
+    spacing.fill(scene_.particle_spacing);  // the lattice is square (cubic): geometry/Lattice.hpp
+    const auto kernel = kernel_;
+    pair_stencil_ = LatticeStencil<Dim, MemorySpace>(spacing, neighbourhood_.reach(),
+                                                     [&](double r) { return kernel.derivative_over_r(r); });
+    if (extrapolate_walls_)
+      wall_stencil_ = LatticeStencil<Dim, MemorySpace>(spacing, neighbourhood_.reach(),
+                                                       [&](double r) { return kernel.value(r); });
+  }
+  auto& list = neighbourhood_.list();
+  const auto& x = particles_.x;
+  const int owned = particles_.owned;
+  bool lattice = list.find_stencil_ids(space_, x, owned, pair_stencil_);
+  if (extrapolate_walls_) lattice = wall_neighbours_.find_stencil_ids(space_, x, owned, wall_stencil_) && lattice;
+  if (!comm_.any(!lattice)) {
+    list.use_stencil(pair_stencil_);
+    if (extrapolate_walls_) wall_neighbours_.use_stencil(wall_stencil_);
+  } else {
+    list.cache_geometry(space_, x, owned, kernel_);
+    if (extrapolate_walls_) wall_neighbours_.cache_geometry(space_, x, owned, kernel_);
+  }
+}
+
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::compute_rates() {
-  refresh_neighbourhood();
-  compute_pair_rates(space_, particles_, neighbourhood_.list(), pair_sums_, kernel_, fluid_, body_force_,
-                     pair_options_, no_slip_factors_);
-  space_.fence();
+  neighbourhood_stage();
+  wall_pressure_stage();
+  pair_rates_stage();
+  finish_stage();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::make_step_stages() {
+  using S = Simulation;
+  step_stages_ = {{"poresph::step::predict", &S::predict_stage},
+                  {"poresph::step::neighbourhood", &S::neighbourhood_stage}};
+  if (extrapolate_walls_) step_stages_.push_back({"poresph::step::wall_pressure", &S::wall_pressure_stage});
+  step_stages_.push_back({"poresph::step::pair_rates", &S::pair_rates_stage});
+  step_stages_.push_back({"poresph::step::finish", &S::finish_stage});
+  step_stages_.push_back({"poresph::step::correct", &S::correct_stage});
+  if (particles_.has_shifting || (!fixed_ && !solid_map_.empty()))
+    step_stages_.push_back({"poresph::step::constraints", &S::constraints_stage});
+  step_stages_.push_back({"poresph::step::check", &S::check_stage});
+  if (!fixed_ && scene_.resummation_interval > 0)
+    step_stages_.push_back({"poresph::step::density_resummation", &S::resummation_stage});
 }
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::step() {
-  const double dt = derived_.time_step;
-  predict_to_midpoint(space_, particles_, dt, !fixed_, fluid_.separate_wall_drag);
-  compute_rates();
+  for (const StepStage& stage : step_stages_) {
+    Kokkos::Profiling::pushRegion(stage.name);
+    (this->*stage.run)();
+    Kokkos::Profiling::popRegion();
+  }
+  space_.fence();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::predict_stage() {
+  predict_to_midpoint(space_, particles_, derived_.time_step, !fixed_, fluid_.separate_wall_drag);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::neighbourhood_stage() {
+  refresh_neighbourhood_only();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::wall_pressure_stage() {
+  update_wall_pressure();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::pair_rates_stage() {
+  sum_pair_rates(space_, particles_, neighbourhood_.list(), pair_sums_, kernel_, fluid_, pair_options_,
+                 no_slip_factors_);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::finish_stage() {
+  finish_pair_rates(space_, particles_, neighbourhood_.list(), pair_sums_, fluid_, body_force_, pair_options_,
+                    no_slip_factors_);
+  space_.fence();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::correct_stage() {
   // The corrector checks the particles it writes, unless something moves
   // them after it (shifting, the push out of grains) or a test poisons them.
-  const bool corrector_checks = !particles_.has_shifting && (fixed_ || solid_map_.empty()) && !poison_next_step_;
-  const long long unhealthy = correct_full_step(space_, particles_, dt, !fixed_, fluid_.separate_wall_drag,
-                                                corrector_checks ? &health_limits_ : nullptr);
+  corrector_checks_ = !particles_.has_shifting && (fixed_ || solid_map_.empty()) && !poison_next_step_;
+  corrector_unhealthy_ = correct_full_step(space_, particles_, derived_.time_step, !fixed_,
+                                           fluid_.separate_wall_drag, corrector_checks_ ? &health_limits_ : nullptr);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::constraints_stage() {
   if (particles_.has_shifting) apply_shifting(space_, particles_);
   if (!fixed_ && !solid_map_.empty()) {
     const auto pushed = fluid_in_grains(space_, particles_, solid_map_, true, 1e-6 * scene_.particle_spacing);
     surface_corrections_ += pushed.particles;
     deepest_correction_ = std::max(deepest_correction_, pushed.max_depth);
   }
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::check_stage() {
   if (poison_next_step_ && particles_.owned > 0) {
     Kokkos::deep_copy(Kokkos::subview(particles_.v, 0, 0), std::numeric_limits<double>::quiet_NaN());
     poison_next_step_ = false;
   }
   ++steps_;
-  time_ = steps_ * dt;  // not a running sum: no drift of the clock over 10^5 steps
-  check_step(corrector_checks && unhealthy == 0);
-  if (!fixed_ && scene_.resummation_interval > 0 && steps_ % scene_.resummation_interval == 0) {
-    refresh_neighbourhood();
-    resum_fluid_density(space_, particles_, neighbourhood_.list(), pair_sums_, kernel_);
-  }
-  space_.fence();
+  time_ = steps_ * derived_.time_step;  // not a running sum: no drift of the clock over 10^5 steps
+  check_step(corrector_checks_ && corrector_unhealthy_ == 0);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::resummation_stage() {
+  if (steps_ % scene_.resummation_interval != 0) return;
+  refresh_neighbourhood();
+  resum_fluid_density(space_, particles_, neighbourhood_.list(), pair_sums_, kernel_);
 }
 
 template <int Dim, class ExecSpace>

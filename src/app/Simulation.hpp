@@ -83,10 +83,26 @@ class Simulation {
   // step (positions, velocities, densities; the rates are not kept).
   void rewind_failed_step();
 
-  // One predictor-corrector step of size time_step().
+  // One predictor-corrector step of size time_step(): the scene's stages
+  // (step_stages()) in order.
   void step();
-  // Re-evaluates the rates at the current state (after the state was edited).
+  // The rates dv/dt and d rho/dt (and the wall drag, the shifting) of the
+  // current state, without advancing time: pressures, ghosts and lists
+  // brought to the state, the wall pressure, the pair loop and its finish.
+  // The entry point for anything that needs the rates of a state it made
+  // (after editing velocities or densities; a steady solver). With a wall
+  // drag kept apart (fixed particles next to surfaces), a fluid particle's
+  // dv/dt is dvdt - wall_drag v.
   void compute_rates();
+
+  // A step is a named sequence of stages, each a member function; which a
+  // scene has is decided once, at construction (make_step_stages): a new
+  // stage (rigid-body motion, say) is one member function and one line there.
+  struct StepStage {
+    std::string name;  // also the Kokkos profiling region around it
+    void (Simulation::*run)();
+  };
+  const std::vector<StepStage>& step_stages() const { return step_stages_; }
 
   double time() const { return time_; }
   long long steps() const { return steps_; }
@@ -128,6 +144,9 @@ class Simulation {
   // Neighbour-list rebuilds so far (the list is kept while particles move less than half the skin).
   long long neighbour_rebuilds() const { return neighbourhood_.builds(); }
   long long neighbour_pairs() const { return neighbourhood_.list().pairs(); }
+  // Fixed particles, once the list is built: whether the pairs' geometry is
+  // read from the lattice stencil (else from the per-entry cache).
+  bool pairs_on_stencil() const { return neighbourhood_.list().on_stencil(); }
   // Listed neighbours (support and skin) per owned particle, counting both ends of a half list's pairs.
   double neighbours_per_particle() const { return neighbourhood_.list().neighbours_per_particle(); }
 
@@ -154,8 +173,11 @@ class Simulation {
  private:
   // Pressure of owned particles, then ghosts at the current positions: a
   // fresh halo, cell list and neighbour list if some particle moved more than
-  // half the skin since the last build, otherwise the ghosts updated in place.
+  // half the skin since the last build, otherwise the ghosts updated in place;
+  // then the wall pressure (update_wall_pressure).
   void refresh_neighbourhood();
+  // The same without the wall pressure.
+  void refresh_neighbourhood_only();
   // Pressure of owned particles, then the ghosts' changing fields along the recorded routes.
   void update_pressure_and_ghosts();
   // With an extrapolated wall pressure: the owned boundary particles' from
@@ -164,6 +186,18 @@ class Simulation {
   // What rests on a fresh neighbourhood: the cached pair geometry of fixed
   // particles, the boundary particles' fluid neighbours, room for the sums.
   void built_neighbourhood();
+  void find_pair_geometry();  // fixed particles: the lists' geometry, from the stencil or per entry
+  // The stages of a step, in order (step_stages()).
+  void make_step_stages();
+  void predict_stage();          // "predict": to the mid-point with the old rates
+  void neighbourhood_stage();    // "neighbourhood": pressures, ghosts, lists at the mid-point
+  void wall_pressure_stage();    // "wall pressure": boundary pressures from the fluid
+  void pair_rates_stage();       // "pair rates": the pair loop
+  void finish_stage();           // "finish": the sums into rates, the body force
+  void correct_stage();          // "correct": the full step with the mid-point rates
+  void constraints_stage();      // "constraints": shifting, particles put back out of grains
+  void check_stage();            // "check": the clock, and the step's health
+  void resummation_stage();      // "density resummation": every Density Resummation Interval steps
   // Stops the run if the step left a particle count change or an unhealthy
   // particle; known_healthy: the corrector found none here (only the count
   // is left to check).
@@ -179,6 +213,9 @@ class Simulation {
   Neighbourhood<Dim, ExecSpace> neighbourhood_;  // ghosts, cells, the pair list
   WallNeighbours<Dim, ExecSpace> wall_neighbours_;  // with an extrapolated wall pressure
   NoSlipFactors<Dim, ExecSpace> no_slip_factors_;   // fixed particles with surfaces, per list entry
+  // Fixed particles: the lattice offsets within the lists' reach with F =
+  // (1/r) dW/dr (pair list) and W (wall list), built with the first list.
+  LatticeStencil<Dim, MemorySpace> pair_stencil_, wall_stencil_;
   PairSums<ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;
@@ -199,6 +236,11 @@ class Simulation {
   double reference_pressure_ = 0.0;
   HealthLimits health_limits_{};
   bool poison_next_step_ = false;
+  std::vector<StepStage> step_stages_;
+  // Within a step: whether the corrector checked the particles it wrote,
+  // and how many it found unhealthy.
+  bool corrector_checks_ = false;
+  long long corrector_unhealthy_ = 0;
   long long fluid_count_ = 0, total_count_ = 0;
   double time_ = 0.0;
   long long steps_ = 0;

@@ -17,30 +17,10 @@
 
 #include "core/CellList.hpp"
 #include "core/Math.hpp"
+#include "core/PairGeometry.hpp"
 #include "core/Vec.hpp"
 
 namespace poresph {
-
-// For rows i < rows of a list in CSR form (entries [offsets(i),
-// offsets(i+1)) naming particles by indices(k)): each entry's separation r =
-// x_i - x_indices(k) into geometry(k, 0..Dim-1), and of_distance(|r|) into
-// geometry(k, Dim). Fixed particles cache what the pair loop and the wall
-// pressure would otherwise evaluate at every stage.
-template <int Dim, class ExecSpace, class IndexView, class PositionView, class GeometryView, class OfDistance>
-void cache_separations(const ExecSpace& space, const std::string& label, const IndexView& offsets,
-                       const IndexView& indices, const PositionView& x, int rows, const GeometryView& geometry,
-                       const OfDistance& of_distance) {
-  Kokkos::parallel_for(
-      label, Kokkos::RangePolicy<ExecSpace>(space, 0, rows), KOKKOS_LAMBDA(int i) {
-        const Vec<Dim> xi = row<Dim>(x, i);
-        for (int k = offsets(i); k < offsets(i + 1); ++k) {
-          const Vec<Dim> r = xi - row<Dim>(x, indices(k));
-          for (int d = 0; d < Dim; ++d) geometry(k, d) = r[d];
-          geometry(k, Dim) = of_distance(math::sqrt(dot(r, r)));
-        }
-      });
-  space.fence();
-}
 
 template <int Dim, class ExecSpace>
 class NeighbourList {
@@ -48,9 +28,11 @@ class NeighbourList {
   using MemorySpace = typename ExecSpace::memory_space;
   using IndexView = Kokkos::View<int*, MemorySpace>;
 
+  // room_to_grow: a quarter more entries than found, for the rebuilds of
+  // moving particles; a list built once (fixed particles) holds what it has.
   template <class PositionView>
   void build(const ExecSpace& space, const CellList<Dim, ExecSpace>& cells, const PositionView& x, int owned,
-             double radius) {
+             double radius, bool room_to_grow = true) {
     if (static_cast<int>(offsets_.extent(0)) < owned + 1) {
       offsets_ = IndexView("NeighbourList::offsets", owned + owned / 4 + 1);
       ghosts_begin_ = IndexView("NeighbourList::ghosts_begin", owned + owned / 4 + 1);
@@ -78,7 +60,8 @@ class NeighbourList {
           if (final) offsets(i) = running;
         },
         total);
-    if (static_cast<int>(indices_.extent(0)) < total) indices_ = IndexView("NeighbourList::indices", total + total / 4);
+    if (static_cast<int>(indices_.extent(0)) < total)
+      indices_ = IndexView("NeighbourList::indices", room_to_grow ? total + total / 4 : total);
     const auto indices = indices_;
     static const std::string label_fill = "poresph::NeighbourList::fill";
     Kokkos::parallel_for(
@@ -97,7 +80,7 @@ class NeighbourList {
         });
     space.fence();
     pairs_ = total;
-    cached_ = false;
+    geometry_.clear();
     // Neighbours per particle as a full list would have them: the half list
     // holds each pair of owned particles once.
     static const std::string label_owned_pairs = "poresph::NeighbourList::owned_pairs";
@@ -121,30 +104,36 @@ class NeighbourList {
   KOKKOS_INLINE_FUNCTION int neighbour(int k) const { return indices_(k); }
 
   // Fixed particles: the separation r_ab and F_ab = (1/r) dW/dr of every
-  // entry, computed once after the build, so that the pair loop streams them
-  // instead of gathering positions and evaluating the kernel at each step.
+  // entry, found once after the build, so that the pair loop streams them
+  // instead of gathering positions and evaluating the kernel at each step:
+  // from the lattice stencil where every entry is one of its offsets
+  // (find_stencil_ids, then use_stencil once every process has found so),
+  // else cached per entry (cache_geometry, core/PairGeometry.hpp).
   // The list must hold no entry beyond the kernel's support (no skin).
+  template <class PositionView>
+  bool find_stencil_ids(const ExecSpace& space, const PositionView& x, int owned,
+                        const LatticeStencil<Dim, MemorySpace>& stencil) {
+    static const std::string label = "poresph::NeighbourList::find_stencil_ids";
+    return geometry_.find_stencil_ids(space, label, offsets_, indices_, x, owned, pairs_, stencil);
+  }
+  void use_stencil(const LatticeStencil<Dim, MemorySpace>& stencil) { geometry_.use_stencil(stencil); }
   template <class PositionView, class Kernel>
   void cache_geometry(const ExecSpace& space, const PositionView& x, int owned, const Kernel& kernel) {
-    if (static_cast<long long>(geometry_.extent(0)) < pairs_)
-      geometry_ = GeometryView("NeighbourList::geometry", pairs_);
     static const std::string label = "poresph::NeighbourList::cache_geometry";
-    cache_separations<Dim>(space, label, offsets_, indices_, x, owned, geometry_,
-                           KOKKOS_LAMBDA(double r) { return kernel.derivative_over_r(r); });
-    cached_ = true;
+    geometry_.cache(space, label, offsets_, indices_, x, owned, pairs_,
+                    KOKKOS_LAMBDA(double r) { return kernel.derivative_over_r(r); });
   }
-  bool has_geometry() const { return cached_; }
-  KOKKOS_INLINE_FUNCTION double separation(int k, int d) const { return geometry_(k, d); }
-  KOKKOS_INLINE_FUNCTION double derivative_over_r(int k) const { return geometry_(k, Dim); }
+  bool has_geometry() const { return geometry_.has_geometry(); }
+  bool on_stencil() const { return geometry_.on_stencil(); }
+  KOKKOS_INLINE_FUNCTION double separation(int k, int d) const { return geometry_.separation(k, d); }
+  KOKKOS_INLINE_FUNCTION double derivative_over_r(int k) const { return geometry_.of_distance(k); }
 
   long long pairs() const { return pairs_; }  // entries of the list
   double neighbours_per_particle() const { return neighbours_per_particle_; }
 
  private:
-  using GeometryView = Kokkos::View<double* [Dim + 1], Kokkos::LayoutRight, MemorySpace>;
   IndexView offsets_, ghosts_begin_, indices_;
-  GeometryView geometry_;
-  bool cached_ = false;
+  PairGeometry<Dim, ExecSpace> geometry_;
   long long pairs_ = 0;
   double neighbours_per_particle_ = 0;
 };

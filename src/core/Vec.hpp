@@ -1,6 +1,9 @@
 #pragma once
 // A fixed-size vector for kernels: the dimension is a compile-time constant,
-// so a 2D build carries two components and no branch on the dimension.
+// so a 2D build carries two components and no branch on the dimension. Its
+// operations are force-inlined: in a kernel as large as the pair loop
+// (physics/PairDriver.hpp) GCC 12 otherwise leaves some as calls, and the
+// vectors they return go through memory.
 #include <Kokkos_Core.hpp>
 
 namespace poresph {
@@ -9,35 +12,35 @@ template <int Dim>
 struct Vec {
   double c[Dim];
 
-  KOKKOS_INLINE_FUNCTION static Vec zero() {
+  KOKKOS_FORCEINLINE_FUNCTION static Vec zero() {
     Vec r{};
     for (int d = 0; d < Dim; ++d) r.c[d] = 0.0;
     return r;
   }
-  KOKKOS_INLINE_FUNCTION double& operator[](int d) { return c[d]; }
-  KOKKOS_INLINE_FUNCTION double operator[](int d) const { return c[d]; }
+  KOKKOS_FORCEINLINE_FUNCTION double& operator[](int d) { return c[d]; }
+  KOKKOS_FORCEINLINE_FUNCTION double operator[](int d) const { return c[d]; }
 
-  KOKKOS_INLINE_FUNCTION Vec& operator+=(const Vec& o) {
+  KOKKOS_FORCEINLINE_FUNCTION Vec& operator+=(const Vec& o) {
     for (int d = 0; d < Dim; ++d) c[d] += o.c[d];
     return *this;
   }
-  KOKKOS_INLINE_FUNCTION Vec& operator-=(const Vec& o) {
+  KOKKOS_FORCEINLINE_FUNCTION Vec& operator-=(const Vec& o) {
     for (int d = 0; d < Dim; ++d) c[d] -= o.c[d];
     return *this;
   }
 };
 
 template <int Dim>
-KOKKOS_INLINE_FUNCTION Vec<Dim> operator+(Vec<Dim> a, const Vec<Dim>& b) { return a += b; }
+KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> operator+(Vec<Dim> a, const Vec<Dim>& b) { return a += b; }
 template <int Dim>
-KOKKOS_INLINE_FUNCTION Vec<Dim> operator-(Vec<Dim> a, const Vec<Dim>& b) { return a -= b; }
+KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> operator-(Vec<Dim> a, const Vec<Dim>& b) { return a -= b; }
 template <int Dim>
-KOKKOS_INLINE_FUNCTION Vec<Dim> operator*(double s, Vec<Dim> a) {
+KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> operator*(double s, Vec<Dim> a) {
   for (int d = 0; d < Dim; ++d) a.c[d] *= s;
   return a;
 }
 template <int Dim>
-KOKKOS_INLINE_FUNCTION double dot(const Vec<Dim>& a, const Vec<Dim>& b) {
+KOKKOS_FORCEINLINE_FUNCTION double dot(const Vec<Dim>& a, const Vec<Dim>& b) {
   double s = 0.0;
   for (int d = 0; d < Dim; ++d) s += a.c[d] * b.c[d];
   return s;
@@ -45,13 +48,13 @@ KOKKOS_INLINE_FUNCTION double dot(const Vec<Dim>& a, const Vec<Dim>& b) {
 
 // Row i of an (n x Dim) View as a Vec.
 template <int Dim, class View>
-KOKKOS_INLINE_FUNCTION Vec<Dim> row(const View& v, int i) {
+KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> row(const View& v, int i) {
   Vec<Dim> r;
   for (int d = 0; d < Dim; ++d) r.c[d] = v(i, d);
   return r;
 }
 template <int Dim, class View>
-KOKKOS_INLINE_FUNCTION void set_row(const View& v, int i, const Vec<Dim>& r) {
+KOKKOS_FORCEINLINE_FUNCTION void set_row(const View& v, int i, const Vec<Dim>& r) {
   for (int d = 0; d < Dim; ++d) v(i, d) = r.c[d];
 }
 

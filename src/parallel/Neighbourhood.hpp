@@ -79,7 +79,7 @@ class Neighbourhood {
   void build(const ExecSpace& space, ParticleSet& P) {
     halo_.build(P);
     cells_.build(space, P.x, P.total(), search_lo_, search_hi_, reach());
-    list_.build(space, cells_, P.x, P.owned, reach());
+    list_.build(space, cells_, P.x, P.owned, reach(), skin_ > 0);  // without skin, built once
     const auto owned = std::make_pair(0, P.owned);
     if (static_cast<int>(x_at_build_.extent(0)) < P.owned)
       x_at_build_ = typename ParticleSet::Vector("x_at_build", P.owned);

@@ -107,8 +107,9 @@ class NoSlipFactors {
 
   void build(const ExecSpace& space, const Particles<Dim, MemorySpace>& P, const NeighbourList<Dim, ExecSpace>& list,
              double min_fluid_distance) {
+    // Fixed particles build their list once: no room to grow.
     if (static_cast<long long>(factors_.extent(0)) < list.pairs())
-      factors_ = Kokkos::View<double*, MemorySpace>("NoSlipFactors", list.pairs() + list.pairs() / 4 + 1);
+      factors_ = Kokkos::View<double*, MemorySpace>("NoSlipFactors", list.pairs() + 1);
     if (static_cast<int>(touches_.extent(0)) < P.owned)
       touches_ = Kokkos::View<bool*, MemorySpace>("NoSlipFactors::touches", P.owned + P.owned / 4 + 1);
     const auto factors = factors_;

@@ -21,7 +21,7 @@ KOKKOS_INLINE_FUNCTION double velocity_after(double v, double a, double kappa, d
 
 // move = false: fixed particles, whose positions never change (Eulerian SPH).
 // wall_drag: the particles carry a drag coefficient kappa apart from their
-// acceleration (physics/PairRates.hpp, FluidProperties::separate_wall_drag),
+// acceleration (physics/terms/NoSlipTerm.hpp, FluidProperties::separate_wall_drag),
 // integrated exactly over each stage.
 template <int Dim, class ExecSpace>
 void predict_to_midpoint(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,

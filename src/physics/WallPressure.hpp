@@ -21,6 +21,7 @@
 #include "core/NeighbourList.hpp"
 #include "core/Kernel.hpp"
 #include "core/Math.hpp"
+#include "core/PairGeometry.hpp"
 #include "core/Particles.hpp"
 #include "core/Vec.hpp"
 #include "physics/PairTerms.hpp"
@@ -77,7 +78,7 @@ class WallNeighbours {
     if (static_cast<int>(indices_.extent(0)) < total)
       indices_ = IndexView("WallNeighbours::indices", total + total / 4 + 1);
     entries_ = total;
-    cached_ = false;
+    geometry_.clear();
     const auto indices = indices_;
     static const std::string label_fill = "poresph::WallNeighbours::fill";
     Kokkos::parallel_for(
@@ -93,28 +94,32 @@ class WallNeighbours {
   KOKKOS_INLINE_FUNCTION int neighbour(int k) const { return indices_(k); }
 
   // Fixed particles: the separation r_wf and the kernel value W_wf of every
-  // entry, computed once after the build (as NeighbourList::cache_geometry
-  // does for the pair loop), so that the extrapolation at every stage reads
-  // them instead of evaluating a square root and the kernel per pair.
+  // entry, found once after the build (as NeighbourList's geometry is for the
+  // pair loop, from the lattice stencil or else per entry), so that the
+  // extrapolation at every stage reads them instead of evaluating a square
+  // root and the kernel per pair.
+  template <class PositionView>
+  bool find_stencil_ids(const ExecSpace& space, const PositionView& x, int owned,
+                        const LatticeStencil<Dim, MemorySpace>& stencil) {
+    static const std::string label = "poresph::WallNeighbours::find_stencil_ids";
+    return geometry_.find_stencil_ids(space, label, offsets_, indices_, x, owned, entries_, stencil);
+  }
+  void use_stencil(const LatticeStencil<Dim, MemorySpace>& stencil) { geometry_.use_stencil(stencil); }
   template <class PositionView, class Kernel>
   void cache_geometry(const ExecSpace& space, const PositionView& x, int owned, const Kernel& kernel) {
-    if (static_cast<int>(geometry_.extent(0)) < entries_)
-      geometry_ = GeometryView("WallNeighbours::geometry", entries_ + entries_ / 4 + 1);
     static const std::string label = "poresph::WallNeighbours::cache_geometry";
-    cache_separations<Dim>(space, label, offsets_, indices_, x, owned, geometry_,
-                           KOKKOS_LAMBDA(double r) { return kernel.value(r); });
-    cached_ = true;
+    geometry_.cache(space, label, offsets_, indices_, x, owned, entries_,
+                    KOKKOS_LAMBDA(double r) { return kernel.value(r); });
   }
-  bool has_geometry() const { return cached_; }
-  KOKKOS_INLINE_FUNCTION double separation(int k, int d) const { return geometry_(k, d); }
-  KOKKOS_INLINE_FUNCTION double weight(int k) const { return geometry_(k, Dim); }
+  bool has_geometry() const { return geometry_.has_geometry(); }
+  bool on_stencil() const { return geometry_.on_stencil(); }
+  KOKKOS_INLINE_FUNCTION double separation(int k, int d) const { return geometry_.separation(k, d); }
+  KOKKOS_INLINE_FUNCTION double weight(int k) const { return geometry_.of_distance(k); }
 
  private:
-  using GeometryView = Kokkos::View<double* [Dim + 1], Kokkos::LayoutRight, MemorySpace>;
   IndexView offsets_, indices_;
-  GeometryView geometry_;
+  PairGeometry<Dim, ExecSpace> geometry_;
   int entries_ = 0;
-  bool cached_ = false;
 };
 
 // Sets p, rho = p / c^2 and the pair loop's factors of every owned boundary
