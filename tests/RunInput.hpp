@@ -7,6 +7,7 @@
 
 #include "app/Run.hpp"
 #include "io/Parameters.hpp"
+#include "scene/SceneBuilder.hpp"
 
 namespace poresph::testing {
 

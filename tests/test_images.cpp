@@ -25,6 +25,7 @@
 #include "geometry/VoxelImage.hpp"
 #include "io/ImageReader.hpp"
 #include "io/Parameters.hpp"
+#include "scene/SceneBuilder.hpp"
 #include "ErrorOf.hpp"
 #include "MinimalScene.hpp"
 #include "VoxelSketch.hpp"

@@ -17,6 +17,7 @@
 #include "app/Simulation.hpp"
 #include "io/OutputDirectory.hpp"
 #include "io/Parameters.hpp"
+#include "scene/SceneBuilder.hpp"
 #include "physics/LevelStart.hpp"
 #include "SharedDirectory.hpp"
 

@@ -6,6 +6,7 @@
 #include "app/Simulation.hpp"
 #include "geometry/Lattice.hpp"
 #include "io/Parameters.hpp"
+#include "scene/SceneBuilder.hpp"
 #include "io/TextValues.hpp"
 #include "ErrorOf.hpp"
 #include "MinimalScene.hpp"

@@ -9,6 +9,7 @@
 #include "geometry/Grains.hpp"
 #include "geometry/RandomPack.hpp"
 #include "io/Parameters.hpp"
+#include "scene/SceneBuilder.hpp"
 #include "ErrorOf.hpp"
 
 namespace poresph {

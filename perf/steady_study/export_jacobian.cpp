@@ -30,6 +30,7 @@
 
 #include "app/Simulation.hpp"
 #include "io/Parameters.hpp"
+#include "scene/SceneBuilder.hpp"
 
 namespace {
 

@@ -21,6 +21,7 @@
 #include "io/Hdf5File.hpp"
 #include "io/OutputDirectory.hpp"
 #include "io/Parameters.hpp"
+#include "scene/SceneBuilder.hpp"
 #include "parallel/Communicator.hpp"
 #include "io/Summary.hpp"
 #include "io/TextValues.hpp"

@@ -1,7 +1,8 @@
 #pragma once
 // The scene file: one Teuchos ParameterList read from XML, overridden by
 // --set, validated against the full list of valid parameters (types, ranges,
-// documentation), then turned into a SceneConfig.
+// documentation). Turning the list into a SceneConfig is the scene
+// builder's (scene/SceneBuilder.hpp).
 #include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
 
@@ -9,8 +10,6 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include "scene/SceneConfig.hpp"
 
 namespace poresph {
 
@@ -35,11 +34,6 @@ Teuchos::RCP<Teuchos::ParameterList> read_parameters(const std::string& xml_file
 
 // Validates an in-memory list the same way (used by read_parameters and tests).
 void validate_parameters(Teuchos::ParameterList& list);
-
-// The validated list as the solver's plain configuration; also checks what
-// depends on several parameters at once (array lengths, walls vs periodicity,
-// grains). Relative file names are taken from `scene_directory`.
-SceneConfig scene_from_parameters(const Teuchos::ParameterList& list, const std::string& scene_directory = "");
 
 void write_parameters_xml(const Teuchos::ParameterList& list, const std::string& file);
 // The list as Teuchos XML text.

@@ -1,0 +1,364 @@
+#include "scene/SceneBuilder.hpp"
+
+#include <Teuchos_Array.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iterator>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "geometry/Grains.hpp"
+#include "geometry/RandomPack.hpp"
+#include "geometry/Solid.hpp"
+#include "io/Parameters.hpp"
+#include "scene/ImageScene.hpp"
+
+namespace poresph {
+namespace {
+
+using Teuchos::Array;
+using Teuchos::ParameterList;
+
+// What the scene asks to measure must be measurable: k needs a body force,
+// and along one axis unless Permeability/Tensor drives each axis in turn.
+// Asked of a scene that cannot give it, it used to be skipped without a
+// word (no k, no history, a steady tolerance ignored, a ladder of nothing).
+void check_measurement(const SceneConfig& scene) {
+  int components = 0;
+  double magnitude = 0;
+  std::ostringstream force;
+  force << std::setprecision(10) << "(";
+  for (int d = 0; d < scene.dimension; ++d) {
+    components += scene.body_force[d] != 0;
+    magnitude += scene.body_force[d] * scene.body_force[d];
+    force << (d ? ", " : "") << scene.body_force[d];
+  }
+  force << ")";
+  magnitude = std::sqrt(magnitude);
+  if (!std::isfinite(magnitude)) return;  // named as such by the scene check (app/SceneCheck.cpp)
+  if (components > 1 && !scene.permeability_tensor) {
+    std::ostringstream msg;
+    msg << std::setprecision(10) << "Fluid/Body Force = " << force.str()
+        << " does not lie along one axis: k is measured along the one axis the force drives. Put the force along "
+           "an axis, or set Permeability/Tensor = true to drive each axis in turn with its magnitude "
+        << magnitude << " and measure the whole tensor";
+    throw ParameterError(msg.str());
+  }
+  if (components > 0) return;
+  std::vector<std::string> asked;
+  if (scene.permeability_tensor) asked.push_back("Permeability/Tensor");
+  if (scene.steady_tolerance > 0) asked.push_back("Permeability/Steady Tolerance");
+  if (scene.steady_window > 0) asked.push_back("Permeability/Steady Window");
+  if (scene.linearity_check) asked.push_back("Permeability/Linearity Check");
+  if (scene.convergence_levels > 1) asked.push_back("Convergence/Levels");
+  if (asked.empty()) return;
+  std::string names;
+  for (size_t k = 0; k < asked.size(); ++k) names += (k ? (k + 1 == asked.size() ? " and " : ", ") : "") + asked[k];
+  throw ParameterError(names + (asked.size() > 1 ? " ask" : " asks") +
+                       " for the permeability, which a body force measures, and Fluid/Body Force is zero here: give "
+                       "one (along the axis to measure), or leave " +
+                       (asked.size() > 1 ? "them" : "it") + " at the default");
+}
+
+// Discretization/Spacings Across Throat = n: the narrowest pore (an open
+// throat between grains, an image's bottleneck) divided by n, rounded down
+// to the largest spacing that fits every cell side a whole number of times
+// (searched up to twice the count).
+double spacing_across_throat(const SceneConfig& scene, double n) {
+  const double gap = narrowest_pore(scene);
+  if (!(gap > 0))
+    throw ParameterError("Discretization/Spacings Across Throat needs a pore throat (between grains, or an image's "
+                         "bottleneck), and this scene has none (no solid, or no open gap): give "
+                         "Discretization/Particle Spacing");
+  const long long first = static_cast<long long>(std::ceil(scene.cell_size[0] * n / gap - 1e-9));
+  for (long long count = std::max(1LL, first); count <= 2 * first + 2; ++count) {
+    const double dx = scene.cell_size[0] / count;
+    bool fits = true;
+    for (int d = 1; d < scene.dimension; ++d) {
+      const double along = scene.cell_size[d] / dx;
+      fits = fits && std::abs(along - std::round(along)) <= 1e-6 * along;
+    }
+    if (fits) return dx;
+  }
+  std::ostringstream msg;
+  msg << "Discretization/Spacings Across Throat = " << n << ": no spacing near " << gap / n
+      << " (the narrowest throat, " << gap << " wide, over " << n << ") fits every side of Domain/Cell Size a "
+      << "whole number of times; give Discretization/Particle Spacing";
+  throw ParameterError(msg.str());
+}
+
+// The Image sublist: what it asks for, checked one by one; the image is
+// then read in pieces and checked against the rest of the scene
+// (scene/ImageScene.hpp). Parsed after Fluid, Run and Parallel, so that the
+// driven axes, the memory limit and the process grid are known.
+void read_scene_image(const ParameterList& list, const std::string& scene_directory, SceneConfig& scene) {
+  const auto& image = list.sublist("Image");
+  const auto shape_values = image.get<Array<int>>("Shape");
+  const auto solid_values = image.get<Array<int>>("Solid Values");
+  const double voxel_size = image.get<double>("Voxel Size");
+  const bool mirror = image.get<bool>("Mirror");
+  const std::string dataset = image.get<std::string>("Dataset");
+  std::string file = image.get<std::string>("File");
+  if (file.empty()) {
+    // Said, not ignored: a scene that sets them meant to use an image.
+    const char* given = !shape_values.empty()  ? "Shape"
+                        : !solid_values.empty() ? "Solid Values"
+                        : voxel_size > 0        ? "Voxel Size"
+                        : mirror                ? "Mirror"
+                        : !dataset.empty()      ? "Dataset"
+                                                : nullptr;
+    if (given) throw ParameterError(std::string("Image/") + given + " is given but Image/File is empty");
+    return;
+  }
+  const auto& grains = list.sublist("Grains");
+  if (!grains.get<std::string>("File").empty() || !grains.get<Array<double>>("Inline").empty() ||
+      grains.sublist("Random Pack").get<double>("Porosity") > 0)
+    throw ParameterError("Image/File and Grains describe the solid both: a scene uses one of them");
+  if (solid_values.empty()) throw ParameterError("Image/Solid Values is required with Image/File");
+  if (!(voxel_size > 0)) throw ParameterError("Image/Voxel Size is required with Image/File (a positive length)");
+  if (file[0] != '/' && !scene_directory.empty()) file = scene_directory + "/" + file;
+
+  ImageRequest request;
+  request.source.path = file;
+  request.source.dataset = dataset;
+  request.source.raw.shape.assign(shape_values.begin(), shape_values.end());
+  request.source.raw.bits = image.get<std::string>("Type") == "uint16" ? 16 : 8;
+  std::string extension = std::filesystem::path(file).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension == ".raw" && shape_values.empty())
+    throw ParameterError("Image/Shape is required for a .raw image ('" + file + "' says nothing of its own shape)");
+  request.solid_values.assign(solid_values.begin(), solid_values.end());
+  request.voxel_size = voxel_size;
+  request.mirror = mirror;
+  request.tensor = list.sublist("Permeability").get<bool>("Tensor");
+  // The ladder's coarsest level has the deepest boundary layer, which the pieces' halo must hold.
+  const auto& convergence = list.sublist("Convergence");
+  request.coarsening = std::pow(convergence.get<double>("Refinement Ratio"), convergence.get<int>("Levels") - 1);
+  request.coarsest_spacing = scene.particle_spacing * request.coarsening;
+  request.spacings_across_throat = list.sublist("Discretization").get<double>("Spacings Across Throat");
+  try {
+    build_image_scene(request, scene);
+  } catch (const std::invalid_argument& e) {
+    throw ParameterError(e.what());
+  }
+}
+
+}  // namespace
+
+SceneConfig scene_from_parameters(const ParameterList& list, const std::string& scene_directory) {
+  SceneConfig scene;
+  auto fail = [](const std::string& msg) { throw ParameterError(msg); };
+  scene.name = list.sublist("Scene").get<std::string>("Name");
+  // The name makes the default output directory, poresph-NAME: it must not
+  // lead anywhere else.
+  if (scene.name.find_first_of("/\\") != std::string::npos)
+    fail("Scene/Name '" + scene.name + "' contains a path separator; name the output directory with --output");
+  // It names a directory and is written into XML and JSON: a control
+  // character (a tab, a newline) would not come back as it was written.
+  for (unsigned char c : scene.name)
+    if (c < 0x20 || c == 0x7F)
+      fail("Scene/Name contains a control character (code " + std::to_string(c) +
+           "): a name is written on one line, without tabs or other control characters");
+
+  const auto& domain = list.sublist("Domain");
+  const auto cell = domain.get<Array<double>>("Cell Size");
+  if (cell.size() != 2 && cell.size() != 3)
+    fail("Domain/Cell Size must have 2 (2D) or 3 (3D) values, got " + std::to_string(cell.size()));
+  scene.dimension = static_cast<int>(cell.size());
+  const int dim = scene.dimension;
+  for (int d = 0; d < dim; ++d) {
+    if (!(cell[d] > 0)) fail("Domain/Cell Size: every side must be positive");
+    scene.cell_size[d] = cell[d];
+  }
+  const auto periodic = domain.get<Array<int>>("Periodic");
+  if (!periodic.empty() && static_cast<int>(periodic.size()) != dim)
+    fail("Domain/Periodic must have one value per direction (" + std::to_string(dim) + ")");
+  for (int d = 0; d < dim; ++d) scene.periodic[d] = periodic.empty() ? true : periodic[d] != 0;
+
+  const auto& fluid = list.sublist("Fluid");
+  scene.density = fluid.get<double>("Density");
+  if (!(scene.density > 0)) fail("Fluid/Density must be positive");
+  scene.kinematic_viscosity = fluid.get<double>("Kinematic Viscosity");
+  const auto force = fluid.get<Array<double>>("Body Force");
+  if (!force.empty() && static_cast<int>(force.size()) != dim)
+    fail("Fluid/Body Force must have one value per direction (" + std::to_string(dim) + ")");
+  for (int d = 0; d < static_cast<int>(force.size()); ++d) scene.body_force[d] = force[d];
+  scene.sound_speed = fluid.get<double>("Sound Speed");
+  scene.density_variation = fluid.get<double>("Density Variation");
+  scene.raise_sound_speed = fluid.get<bool>("Raise Sound Speed");
+  if (scene.raise_sound_speed && scene.sound_speed > 0)
+    fail("Fluid/Raise Sound Speed and Fluid/Sound Speed exclude each other: the sound speed is either given or chosen");
+  scene.velocity_scale = fluid.get<double>("Velocity Scale");
+  scene.length_scale = fluid.get<double>("Length Scale");
+  scene.background_pressure = fluid.get<double>("Background Pressure");
+
+  const auto& disc = list.sublist("Discretization");
+  scene.particle_spacing = disc.get<double>("Particle Spacing");
+  const double across_throat = disc.get<double>("Spacings Across Throat");
+  if (scene.particle_spacing > 0 && across_throat > 0)
+    fail("Discretization/Particle Spacing and Discretization/Spacings Across Throat exclude each other: give one");
+  if (!(scene.particle_spacing > 0) && !(across_throat > 0))
+    fail("Discretization/Particle Spacing (or Spacings Across Throat) must be positive");
+  scene.smoothing_length_ratio = disc.get<double>("Smoothing Length Ratio");
+  scene.resummation_interval = disc.get<int>("Density Resummation Interval");
+  scene.time_step = disc.get<double>("Time Step");
+  scene.shifting_coefficient = disc.get<double>("Particle Shifting");
+  scene.neighbour_skin = disc.get<double>("Neighbour Skin");
+  scene.particle_motion =
+      disc.get<std::string>("Particle Motion") == "lagrangian" ? ParticleMotion::Lagrangian : ParticleMotion::Fixed;
+  scene.convection = fluid.get<bool>("Convection");
+  scene.wall_pressure =
+      disc.get<std::string>("Wall Pressure") == "continuity" ? WallPressure::Continuity : WallPressure::Extrapolated;
+  if (scene.particle_motion == ParticleMotion::Fixed) {
+    // What only moving particles need: said, not silently dropped, since
+    // older scene files switch them on.
+    auto unused = [&](const char* name, bool given) {
+      if (given)
+        scene.warnings.push_back(std::string("Discretization/") + name +
+                                 " has no effect: Discretization/Particle Motion = fixed keeps the particles on "
+                                 "their lattice");
+    };
+    unused("Particle Shifting", scene.shifting_coefficient > 0);
+    unused("Density Resummation Interval", scene.resummation_interval > 0);
+    scene.shifting_coefficient = 0;
+    scene.resummation_interval = 0;
+    scene.neighbour_skin = 0;  // the lists are built once
+  }
+
+  const auto& walls = list.sublist("Walls");
+  const auto wall_type = walls.get<std::string>("Type");
+  scene.walls = wall_type == "channel" ? WallType::Channel : WallType::None;
+  scene.lower_wall_velocity = walls.get<double>("Lower Velocity");
+  scene.upper_wall_velocity = walls.get<double>("Upper Velocity");
+  for (int d = 0; d < dim; ++d) {
+    const bool walled = scene.walls == WallType::Channel && d == 1;
+    if (walled && scene.periodic[d])
+      fail("Walls/Type = channel puts walls at y = 0 and y = L_y: set Domain/Periodic to 0 in y");
+    if (!walled && !scene.periodic[d])
+      fail("Domain/Periodic is 0 in direction " + std::to_string(d) +
+           " but no wall bounds it (only Walls/Type = channel, in y, is available)");
+  }
+  if (scene.walls == WallType::None && (scene.lower_wall_velocity != 0 || scene.upper_wall_velocity != 0))
+    fail("Walls/Lower Velocity and Walls/Upper Velocity need Walls/Type = channel");
+
+  const auto& run = list.sublist("Run");
+  scene.end_time = run.get<double>("End Time");
+  if (!(scene.end_time > 0)) fail("Run/End Time must be positive");
+  scene.max_steps = run.get<int>("Max Steps");
+  const auto backend = run.get<std::string>("Backend");
+  scene.backend = backend == "serial" ? Backend::Serial : backend == "openmp" ? Backend::OpenMP : Backend::Default;
+  scene.threads = run.get<int>("Threads");
+  scene.memory_limit_bytes = run.get<double>("Memory Limit") * 1e9;
+  const auto progress = run.get<std::string>("Progress");
+  scene.progress = progress == "always" ? ProgressMode::Always
+                   : progress == "never" ? ProgressMode::Never
+                                         : ProgressMode::Auto;
+
+  const auto& parallel = list.sublist("Parallel");
+  scene.grid_decomposition = parallel.get<std::string>("Decomposition") == "grid";
+  const auto grid = parallel.get<Array<int>>("Process Grid");
+  scene.process_grid.assign(grid.begin(), grid.end());
+  const char* cut_names[3] = {"X Cuts", "Y Cuts", "Z Cuts"};
+  for (int d = 0; d < 3; ++d) {
+    const auto cuts = parallel.get<Array<double>>(cut_names[d]);
+    scene.cuts[d].assign(cuts.begin(), cuts.end());
+  }
+  if (!scene.grid_decomposition && (!scene.process_grid.empty() || !scene.cuts[0].empty() || !scene.cuts[1].empty() ||
+                                    !scene.cuts[2].empty()))
+    fail("Parallel/Process Grid and the cuts apply to Parallel/Decomposition = grid");
+
+  read_scene_image(list, scene_directory, scene);
+  const auto& grains = list.sublist("Grains");
+  try {
+    std::string file = grains.get<std::string>("File");
+    if (!file.empty()) {
+      if (file[0] != '/' && !scene_directory.empty()) file = scene_directory + "/" + file;
+      scene.grains = read_grain_file(file, dim);
+    }
+    const auto inline_values = grains.get<Array<double>>("Inline");
+    const auto listed = grains_from_list(std::vector<double>(inline_values.begin(), inline_values.end()), dim);
+    scene.grains.insert(scene.grains.end(), listed.begin(), listed.end());
+    scene.allow_overlapping_grains = grains.get<bool>("Allow Overlap");
+    const auto& pack = grains.sublist("Random Pack");
+    if (pack.get<double>("Porosity") > 0) {
+      if (!scene.grains.empty())
+        fail("Grains/Random Pack makes all the grains of the scene: leave Grains/File and Grains/Inline empty");
+      RandomPackSpec spec;
+      spec.porosity = pack.get<double>("Porosity");
+      spec.distribution = pack.get<std::string>("Radius Distribution") == "lognormal"
+                              ? RandomPackSpec::Distribution::Lognormal
+                              : RandomPackSpec::Distribution::Uniform;
+      spec.min_radius = pack.get<double>("Min Radius");
+      spec.max_radius = pack.get<double>("Max Radius");
+      spec.median_radius = pack.get<double>("Median Radius");
+      spec.log_deviation = pack.get<double>("Log Standard Deviation");
+      spec.minimum_gap = pack.get<double>("Minimum Gap");
+      spec.contacts = pack.get<bool>("Contacts");
+      spec.seed = static_cast<unsigned long long>(pack.get<int>("Seed"));
+      auto made = make_random_pack(spec, scene);
+      scene.grains = std::move(made.grains);
+      scene.grains_note = made.description;
+      // Contacts are overlaps by construction; the pack's own rule bounds them.
+      scene.allow_overlapping_grains = scene.allow_overlapping_grains || spec.contacts;
+    }
+    check_grains(scene.grains, scene);
+    if (across_throat > 0) scene.particle_spacing = spacing_across_throat(scene, across_throat);
+    const auto throats = check_pores(scene);
+    scene.warnings.insert(scene.warnings.end(), throats.begin(), throats.end());
+  } catch (const std::invalid_argument& e) {
+    throw ParameterError(e.what());
+  }
+
+  const auto& permeability = list.sublist("Permeability");
+  scene.permeability_tensor = permeability.get<bool>("Tensor");
+  scene.linearity_check = permeability.get<bool>("Linearity Check");
+  const auto& convergence = list.sublist("Convergence");
+  scene.convergence_levels = convergence.get<int>("Levels");
+  scene.refinement_ratio = convergence.get<double>("Refinement Ratio");
+  scene.steady_tolerance = permeability.get<double>("Steady Tolerance");
+  scene.steady_window = permeability.get<double>("Steady Window");
+
+  check_measurement(scene);
+
+  const auto& output = list.sublist("Output");
+  scene.write_final_particles = output.get<bool>("Final Particles CSV");
+  scene.field_interval = output.get<double>("Field Interval");
+  {
+    std::string words = output.get<std::string>("Fields");
+    for (auto& c : words)
+      if (c == ',') c = ' ';
+    std::istringstream in(words);
+    for (std::string word; in >> word;) {
+      static const char* const known[] = {"velocity", "density", "pressure", "kind", "grain", "id"};
+      if (std::find(std::begin(known), std::end(known), word) == std::end(known))
+        fail("Output/Fields: unknown field '" + word + "' (known: velocity density pressure kind grain id)");
+      if (std::find(scene.fields.begin(), scene.fields.end(), word) == scene.fields.end())
+        scene.fields.push_back(word);
+    }
+  }
+  const auto grid_points = output.get<Array<int>>("Grid Points");
+  scene.grid_points.assign(grid_points.begin(), grid_points.end());
+  if (!scene.grid_points.empty() && static_cast<int>(scene.grid_points.size()) != scene.dimension)
+    fail("Output/Grid Points needs one count per direction (" + std::to_string(scene.dimension) + ")");
+  if (!scene.grid_points.empty() && !(scene.field_interval > 0))
+    fail("Output/Grid Points is given, but the grid is written with the field files and Output/Field Interval is 0 "
+         "(none are written): set Output/Field Interval, or leave Output/Grid Points empty");
+  scene.checkpoint_interval = output.get<int>("Checkpoint Interval");
+  scene.final_checkpoint = output.get<bool>("Final Checkpoint");
+  scene.density_variation_limit = list.sublist("Checks").get<double>("Density Variation Limit");
+
+  const auto samples = list.sublist("Diagnostics").get<Array<double>>("Profile Sample Times");
+  scene.profile_sample_times.assign(samples.begin(), samples.end());
+  if (!scene.profile_sample_times.empty() && scene.walls != WallType::Channel)
+    fail("Diagnostics/Profile Sample Times compares a channel's velocity profile with its series solution, and this "
+         "scene has no channel (Walls/Type = channel): leave it empty");
+  return scene;
+}
+
+}  // namespace poresph
