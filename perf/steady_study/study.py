@@ -39,6 +39,9 @@ part's size whatever its preconditioner.
 Needs NumPy and SciPy (python3-numpy, python3-scipy).
 """
 import argparse
+import os
+import subprocess
+import tempfile
 import time
 
 import numpy as np
@@ -166,16 +169,16 @@ class System:
 
         return apply
 
-    def compact_laplacian(self, neumann=True):
-        """The 2d+1-point graph Laplacian on the fluid lattice points (periodic):
-        Neumann (only fluid neighbours count) or Dirichlet (solid neighbours count
-        on the diagonal)."""
+    def compact_laplacian(self, neumann=True, stride=1):
+        """The 2d+1-point graph Laplacian on the fluid lattice points (periodic), its
+        neighbours `stride` points away: Neumann (only fluid neighbours count) or
+        Dirichlet (solid neighbours count on the diagonal)."""
         index = -np.ones(self.shape, dtype=int)
         index[tuple(self.lattice.T)] = np.arange(self.n)
         rows, cols, vals = [], [], []
         everyone = np.arange(self.n)
         for q in range(self.dim):
-            for step in (-1, 1):
+            for step in (-stride, stride):
                 shifted = self.lattice.copy()
                 shifted[:, q] = (shifted[:, q] + step) % self.shape[q]
                 neighbour = index[tuple(shifted.T)]
@@ -465,26 +468,6 @@ def modulated_vectors(system, edges=False):
     return np.column_stack(vectors)
 
 
-def wide_laplacian(system):
-    """The 2d+1-point Laplacian of stride 2 on the fluid lattice points (solid neighbours on
-    the diagonal): zero at the same Brillouin-zone corners as DG; it splits into 2^d
-    independent compact Laplacians on the sub-lattices of spacing 2."""
-    index = -np.ones(system.shape, dtype=int)
-    index[tuple(system.lattice.T)] = np.arange(system.n)
-    rows, cols, vals = [np.arange(system.n)], [np.arange(system.n)], [np.full(system.n, 2.0 * system.dim)]
-    for q in range(system.dim):
-        for step in (-2, 2):
-            shifted = system.lattice.copy()
-            shifted[:, q] = (shifted[:, q] + step) % system.shape[q]
-            neighbour = index[tuple(shifted.T)]
-            fluid = np.where(neighbour >= 0)[0]
-            rows.append(fluid)
-            cols.append(neighbour[fluid])
-            vals.append(-np.ones(len(fluid)))
-    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                         shape=(system.n, system.n))
-
-
 def jacobi_spectral_radius(A, inverse_diagonal, iterations=30):
     x = np.random.default_rng(1).standard_normal(A.shape[0])
     for _ in range(iterations):
@@ -582,7 +565,10 @@ def method_sa(system, args):
     DG = DG.tocsr()
     b = DG @ np.random.default_rng(1).standard_normal(system.n)  # in the range of DG
     multigrid, hierarchy, setup = dg_multigrid(system, DG, args.block, args.edges, args.gauss_seidel)
-    L = wide_laplacian(system)
+    # The wide Laplacian: stride 2, solid neighbours on the diagonal. Zero at the same
+    # Brillouin-zone corners as DG; it splits into 2^d independent compact Laplacians
+    # on the sub-lattices of spacing 2.
+    L = system.compact_laplacian(neumann=False, stride=2)
     smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
     scale = (smooth @ (DG @ smooth)) / (smooth @ (L @ smooth))
     wide_lu = spla.splu(L.tocsc())
@@ -657,9 +643,6 @@ def method_newton(system, args):
     """Newton with the Jacobian at the start state (frozen), each step's bordered system solved
     directly; the rates at each new state come from the exporter (STATE=FILE) run on --scene
     with --set. Reports k after each step and the residual up to a uniform density drift."""
-    import os
-    import subprocess
-    import tempfile
     lu = spla.splu(system.Jb.tocsc())
     u = np.zeros(system.Jb.shape[0] - 1)
     residual = system.R0

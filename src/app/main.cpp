@@ -108,7 +108,7 @@ CommandLine parse_command_line(int argc, char** argv) {
 // Every process reaches the same verdict on a check some of them may see
 // differently (the file system, a signal): the first failing process's
 // message is everyone's, so that no process runs on alone into a collective.
-std::string agree(const std::string& problem, int, int) { return poresph::Communicator().first_problem(problem); }
+std::string agree(const std::string& problem) { return poresph::Communicator().first_problem(problem); }
 
 // Processes of this run on this machine, for the memory check.
 int processes_on_this_machine() { return poresph::Communicator().on_this_machine(); }
@@ -203,12 +203,12 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     problem = e.what();
   }
-  problem = agree(problem, rank, size);
+  problem = agree(problem);
   if (problem.empty() && !cl.restart_file.empty()) {
     // Every process opens the checkpoint, and they agree on what they found.
     std::string why = poresph::hdf5_file_problem(cl.restart_file);
     if (!why.empty()) why = "--restart " + cl.restart_file + ": " + why;
-    problem = agree(why, rank, size);
+    problem = agree(why);
     if (problem.empty()) {
       // The checkpoint must be of this physics, and undamaged in what it says of itself.
       try {
@@ -230,7 +230,7 @@ int main(int argc, char** argv) {
       } catch (const std::exception& e) {
         problem = e.what();
       }
-      problem = agree(problem, rank, size);
+      problem = agree(problem);
     }
   }
   // The output directory: claimed for this run alone (rank 0 holds the
@@ -243,14 +243,14 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {
       problem = e.what();
     }
-    problem = agree(problem, rank, size);
+    problem = agree(problem);
     if (problem.empty()) {
       try {
         plan = poresph::plan_output_directory(dir, cl.restart_file, cl.overwrite);
       } catch (const std::exception& e) {
         problem = e.what();
       }
-      problem = agree(problem, rank, size);
+      problem = agree(problem);
     }
   }
   if (!problem.empty()) {

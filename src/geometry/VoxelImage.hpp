@@ -36,11 +36,12 @@ struct VoxelBox {
 };
 
 // "120 x 80" or "64 x 64 x 32": for messages.
-inline std::string shape_text(const VoxelImage& image) {
+inline std::string shape_text(const std::array<long long, 3>& shape, int dimension) {
   std::string text;
-  for (int d = 0; d < image.dimension; ++d) text += (d ? " x " : "") + std::to_string(image.shape[d]);
+  for (int d = 0; d < dimension; ++d) text += (d ? " x " : "") + std::to_string(shape[d]);
   return text;
 }
+inline std::string shape_text(const VoxelImage& image) { return shape_text(image.shape, image.dimension); }
 
 // The image followed by its mirror image along `axis`: twice as long there,
 // and periodic along it whatever the sample's two faces look like (voxel

@@ -78,9 +78,7 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
   // A process holding a piece knows the whole image's by the checksum made
   // over all the pieces (scene/ImageScene.cpp).
   if (scene.image.voxels) {
-    VoxelImage whole_shape;  // for its shape's text only
-    whole_shape.dimension = scene.image.voxels->dimension;
-    whole_shape.shape = scene.image.voxels->shape;
+    auto whole_shape = scene.image.voxels->shape;
     std::uint64_t sum = scene.image.solid_checksum;
     if (scene.image.owned.empty()) {
       const auto& voxels = *scene.image.voxels;
@@ -89,11 +87,11 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
       for (size_t n = 0; n < solid.size(); ++n) solid[n] = is_solid[voxels.values[n]];
       sum = row_checksum(solid.data(), static_cast<long long>(solid.size()), 1, 0);
     } else {
-      whole_shape.shape = scene.image.cell_voxels;
+      whole_shape = scene.image.cell_voxels;
     }
     std::snprintf(checksum, sizeof checksum, "%016llx", static_cast<unsigned long long>(sum));
-    entries.emplace_back("Image", shape_text(whole_shape) + " voxels of " + number(scene.image.voxel_size) +
-                                      ", solid voxels checksum " + checksum);
+    entries.emplace_back("Image", shape_text(whole_shape, scene.image.voxels->dimension) + " voxels of " +
+                                      number(scene.image.voxel_size) + ", solid voxels checksum " + checksum);
   }
   std::string text;
   for (const auto& [name, value] : entries) text += name + " = " + value + "\n";

@@ -14,6 +14,7 @@
 
 #include "io/PathCheck.hpp"
 #include "io/Summary.hpp"
+#include "parallel/Communicator.hpp"
 
 namespace poresph {
 namespace {
@@ -139,12 +140,8 @@ void Hdf5File::fail(const std::string& what) const {
 
 template <class T>
 long long Hdf5File::write_rows(const std::string& name, const T* data, long long local_rows, int columns) {
-  long long offset = 0, total = 0;
-  MPI_Exscan(&local_rows, &offset, 1, MPI_LONG_LONG, MPI_SUM, comm_);
-  MPI_Allreduce(&local_rows, &total, 1, MPI_LONG_LONG, MPI_SUM, comm_);
-  int rank = 0;
-  MPI_Comm_rank(comm_, &rank);
-  if (rank == 0) offset = 0;  // MPI_Exscan leaves rank 0's result undefined
+  const Communicator comm(comm_);
+  const long long offset = comm.sum_before(local_rows), total = comm.sum(local_rows);
   const int rank_of_data = columns > 0 ? 2 : 1;
   const hsize_t global[2] = {static_cast<hsize_t>(total), static_cast<hsize_t>(columns)};
   const hsize_t start[2] = {static_cast<hsize_t>(offset), 0};

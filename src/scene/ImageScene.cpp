@@ -30,12 +30,6 @@ std::string list_text(const std::vector<T>& values) {
   return out.str();
 }
 
-std::string shape_of(const ImageHeader& header) {
-  std::string text;
-  for (int d = 0; d < header.dimension; ++d) text += (d ? " x " : "") + std::to_string(header.shape[d]);
-  return text;
-}
-
 // A refusal some processes found is every process's, so that none runs on
 // alone into the next collective step.
 template <class Step>
@@ -68,7 +62,7 @@ ImageLayout image_layout(const ImageRequest& request, const ImageHeader& header,
 // the solid values its bits can hold, the mirror's axis, the cell's extent.
 ImageLayout checked_layout(const ImageRequest& request, const ImageHeader& header, SceneConfig& scene) {
   const std::string& file = request.source.path;
-  const std::string named = "Image/File '" + file + "' (" + shape_of(header) + ")";
+  const std::string named = "Image/File '" + file + "' (" + shape_text(header.shape, header.dimension) + ")";
   const auto& given = request.source.raw.shape;
   if (!given.empty() && !std::equal(given.begin(), given.end(), header.shape.begin(),
                                     header.shape.begin() + header.dimension))
@@ -106,11 +100,9 @@ ImageLayout checked_layout(const ImageRequest& request, const ImageHeader& heade
   if (!agree) {
     std::ostringstream msg;
     msg.precision(10);
-    std::string shape;
-    for (int d = 0; d < scene.dimension; ++d) shape += (d ? " x " : "") + std::to_string(cell_voxels[d]);
     msg << "Domain/Cell Size " << list_text(cell) << " is not the extent of the image, " << list_text(extent) << " ("
-        << shape << " voxels" << (request.mirror ? " after Image/Mirror" : "") << " of Image/Voxel Size "
-        << request.voxel_size << " m): they must agree to 1e-9 relative";
+        << shape_text(cell_voxels, scene.dimension) << " voxels" << (request.mirror ? " after Image/Mirror" : "")
+        << " of Image/Voxel Size " << request.voxel_size << " m): they must agree to 1e-9 relative";
     refuse(msg.str());
   }
   return layout;
@@ -259,7 +251,7 @@ void build_image_scene(const ImageRequest& request, SceneConfig& scene, const Co
   const std::string& file = request.source.path;
   // Every process reads the header; a file is the same file for all of them.
   const ImageHeader header = read_image_header(request.source);
-  const std::string named = "Image/File '" + file + "' (" + shape_of(header) + ")";
+  const std::string named = "Image/File '" + file + "' (" + shape_text(header.shape, header.dimension) + ")";
   // The halo follows from the spacing; where the spacing follows from the
   // bottleneck (Spacings Across Throat), or a bottleneck is wider than the
   // halo holds exactly, the pieces are made again with the halo they need.
@@ -278,7 +270,7 @@ void build_image_scene(const ImageRequest& request, SceneConfig& scene, const Co
       const ImageWindow window = piece_window(asked, box, halo, piece);
       long long voxels = 1;
       for (const auto& layers : window.source) voxels *= static_cast<long long>(layers.size());
-      piece_memory_check(file, scene, halo, comm)(voxels, shape_of(header));
+      piece_memory_check(file, scene, halo, comm)(voxels, shape_text(header.shape, header.dimension));
     });
   }
   const ImageLayout layout = checked_layout(request, header, scene);
