@@ -226,6 +226,20 @@ JsonObject RunReport::to_json() const {
         for (int i = 0; i < dimension; ++i) change.add(std::string("k") + "xyz"[i] + "xyz"[j], darcy_linearity[i][j]);
     json.add("darcy_linearity", change);
   }
+  {
+    JsonObject solved;
+    solved.add("method", solver.method);
+    if (solver.method == "steady")
+      solved.add("converged", solver.converged)
+          .add("nonlinear_iterations", solver.nonlinear_iterations)
+          .add("linear_iterations", solver.linear_iterations)
+          .add("residual", solver.residual)
+          .add("setup_seconds", solver.setup_seconds)
+          .add("solve_seconds", solver.solve_seconds)
+          .add("bytes_per_particle", solver.bytes_per_particle)
+          .add("rate_evaluations", solver.rate_evaluations);
+    json.add("solver", solved);
+  }
   if (!failure.empty()) json.add("failure", failure);
   json.add("warnings", warnings);
   if (restarted_from_step >= 0) json.add("restarted_from_step", restarted_from_step);

@@ -58,7 +58,7 @@ struct RunReport {
   long long timed_steps = 0;  // steps run by this process (after a restart: since it)
   double simulated_time = 0, time_step = 0, smoothing_length = 0, sound_speed = 0;
   double particle_spacing = 0;  // of the finest level
-  std::string stopped_by;  // end_time, max_steps, steady_state, failure, signal, error (of the last stage)
+  std::string stopped_by;  // end_time, max_steps, steady_state, not_converged, failure, signal, error (of the last stage)
   std::string failure;     // what stopped a failed run
   std::vector<std::string> warnings;  // from the input checks (narrow throats)
   long long restarted_from_step = -1;
@@ -104,6 +104,14 @@ struct RunReport {
   double permeability_extrapolated[3][3] = {};
   double permeability_uncertainty[3][3] = {};  // relative; NaN where a component is about zero
   double observed_order = 0;                   // of the largest component (NaN with two levels)
+  // Solver/: how the stages were solved. A steady solve's figures are summed
+  // over its stages (the residual and memory: the largest).
+  struct Solver {
+    std::string method = "explicit";
+    bool converged = true;
+    long long nonlinear_iterations = 0, linear_iterations = 0, rate_evaluations = 0;
+    double residual = 0, setup_seconds = 0, solve_seconds = 0, bytes_per_particle = 0;
+  } solver;
   // Permeability/Linearity Check: (k at F/2 - k at F) / k at F, per component.
   bool has_linearity = false;
   double darcy_linearity[3][3] = {};

@@ -17,12 +17,34 @@ constexpr double kNegligibleComponent = 1e-6;
 // Above this relative change at half the force, the flow is not in Darcy's regime.
 constexpr double kDarcyLinearityLimit = 0.01;
 
-// A stage that sought a steady k and ended without one (Run/End Time or
-// Run/Max Steps came first): its k is not the answer yet, and says so.
-std::string unsteady_warning(const StageRecord& r, int levels, bool tensor) {
+// Which stage a warning is about.
+std::string stage_name(const StageRecord& r, int levels, bool tensor) {
   std::string which = levels > 1 ? "level " + std::to_string(r.level + 1) + " of " + std::to_string(levels) : "the run";
   if (tensor && r.axis >= 0) which += std::string(" driven along ") + "xyz"[r.axis];
   if (r.half_force) which += " at half the body force";
+  return which;
+}
+
+bool tensor_records(const std::vector<StageRecord>& records) {
+  return std::any_of(records.begin(), records.end(),
+                     [&](const StageRecord& r) { return r.axis != records.front().axis; });
+}
+
+// A steady solve that stopped short of Solver/Tolerance: its k is not the answer.
+std::string unconverged_warning(const StageRecord& r, int levels, bool tensor) {
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "the steady solve of %s did not converge: relative residual %.3g after %lld Newton and %lld linear "
+                "iterations; k is that of its last state, which the checkpoint keeps (raise Solver/Max Linear "
+                "Iterations or Solver/Max Nonlinear Iterations, and continue with --restart)",
+                stage_name(r, levels, tensor).c_str(), r.solver_residual, r.nonlinear_iterations, r.linear_iterations);
+  return text;
+}
+
+// A stage that sought a steady k and ended without one (Run/End Time or
+// Run/Max Steps came first): its k is not the answer yet, and says so.
+std::string unsteady_warning(const StageRecord& r, int levels, bool tensor) {
+  const std::string which = stage_name(r, levels, tensor);
   char text[300];
   if (std::isfinite(r.relative_change) && std::isfinite(r.remaining_change))
     std::snprintf(text, sizeof text,
@@ -51,15 +73,27 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     report.simulated_time += r.simulated_time;
     report.neighbour_rebuilds += r.neighbour_rebuilds;
   }
+  for (const auto& r : records) {
+    if (!r.steady_solve) continue;
+    auto& solver = report.solver;
+    solver.method = "steady";
+    solver.converged = solver.converged && r.solver_converged;
+    solver.nonlinear_iterations += r.nonlinear_iterations;
+    solver.linear_iterations += r.linear_iterations;
+    solver.rate_evaluations += r.rate_evaluations;
+    solver.residual = std::max(solver.residual, r.solver_residual);
+    solver.setup_seconds += r.solver_setup_seconds;
+    solver.solve_seconds += r.solver_solve_seconds;
+    solver.bytes_per_particle = std::max(solver.bytes_per_particle, r.solver_bytes_per_particle);
+    if (!r.solver_converged) report.warnings.push_back(unconverged_warning(r, levels, tensor_records(records)));
+  }
   bool any = false, steady = true;
-  const bool tensor = std::any_of(records.begin(), records.end(), [&](const StageRecord& r) {
-    return r.axis != records.front().axis;
-  });
+  const bool tensor = tensor_records(records);
   for (const auto& r : records) {
     if (!r.has_permeability) continue;
     any = true;
     steady = steady && r.steady;
-    if (steady_sought && !r.steady) report.warnings.push_back(unsteady_warning(r, levels, tensor));
+    if (steady_sought && !r.steady && !r.steady_solve) report.warnings.push_back(unsteady_warning(r, levels, tensor));
     report.steady_relative_change = std::max(report.steady_relative_change, r.relative_change);
     report.steady_remaining_change = std::max(report.steady_remaining_change, r.remaining_change);
   }

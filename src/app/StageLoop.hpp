@@ -11,6 +11,7 @@
 #include <csignal>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@
 #include "io/OutputDirectory.hpp"
 #include "io/ParticlesCsv.hpp"
 #include "io/ProgressLine.hpp"
+#include "solver/SteadySolver.hpp"
 
 namespace poresph {
 
@@ -211,7 +213,77 @@ class StageLoop {
                           rates_valid);
   }
 
+  // Stops the run for a signal: the state as it stands, and what the stage measured.
+  [[noreturn]] void stop_for(int signal_number, double loop_seconds, long long first_step) {
+    progress_->finish();
+    write_checkpoint_now(true);
+    record("signal", loop_seconds, first_step);
+    throw RunInterrupted("stopped by " + signal_name(signal_number) + " at step " + std::to_string(sim_->steps()) +
+                             ", t = " + std::to_string(sim_->time()) + " s; the state is in " + options_.output_dir +
+                             "/checkpoint.h5",
+                         signal_number);
+  }
+
+  // Solver/Method = steady: the stage's steady state by Newton-Krylov
+  // (solver/SteadySolver.hpp) in place of the time loop; the observers see
+  // its end as they see the end of a time loop.
+  void steady_loop() {
+    Sim& sim = *sim_;
+    const long long first_step = sim.steps();
+    const auto loop_start = Clock::now();
+    auto seconds = [&]() { return std::chrono::duration<double>(Clock::now() - loop_start).count(); };
+    if (sim.communicator().any(stop_signal_pending())) stop_for(stop_signal_received(), seconds(), first_step);
+    SteadyOptions options;
+    options.tolerance = scene_.solver_tolerance;
+    options.linear_tolerance = scene_.solver_linear_tolerance;
+    options.max_nonlinear_iterations = scene_.solver_max_nonlinear_iterations;
+    options.max_linear_iterations = scene_.solver_max_linear_iterations;
+    options.restart = scene_.solver_restart;
+    options.inner_tolerance = scene_.solver_inner_tolerance;
+    options.max_inner_iterations = scene_.solver_max_inner_iterations;
+    const double tolerance = options.tolerance;
+    const double force = force_magnitude(scene_);
+    auto show = [&](const SteadyProgress& s) {
+      // Done, as a fraction of the decades of residual from the start to the tolerance.
+      const double expected = s.residual * (s.linear_residual > 0 ? s.linear_residual : 1.0);
+      char text[256];
+      int n = std::snprintf(text, sizeof text, "Newton %d  linear %lld  residual %.2e", s.nonlinear_iterations,
+                            s.linear_iterations, expected);
+      if (!steady_start_residual_) steady_start_residual_ = s.residual;
+      const double span = std::log(steady_start_residual_ / tolerance), done = std::log(steady_start_residual_ / expected);
+      if (span > 0 && done > 0) {
+        const double eta = seconds() * std::max(span - done, 0.0) / done;
+        n += std::snprintf(text + n, sizeof text - n, "  ETA %.0f s", eta);
+      }
+      if (permeability_ && force > 0)
+        std::snprintf(text + n, sizeof text - n, "  k = %.5e m^2",
+                      scene_.kinematic_viscosity * sim.superficial_velocity()[axis_] / force);
+      progress_->show(text);
+    };
+    SteadySolver<Dim, ExecSpace> solver(sim, ExecSpace(), options,
+                                        [&]() { return sim.communicator().any(stop_signal_pending()); }, show);
+    try {
+      steady_report_ = solver.solve();
+    } catch (const std::exception& error) {  // a failed allocation, MPI: summary.json says so
+      progress_->finish();
+      record("error", seconds(), first_step);
+      report_.failure = error.what();
+      throw;
+    }
+    if (steady_report_->interrupted) stop_for(stop_signal_received(), seconds(), first_step);
+    const double loop_seconds = seconds();
+    progress_->finish();
+    for (auto* o : probes_) o->at_end(sim);
+    record(steady_report_->converged ? "steady_state" : "not_converged", loop_seconds, first_step);
+    if (scene_.write_final_particles)
+      write_particles_csv<Dim>(sim, options_.output_dir + "/particles" + stage_.suffix + ".csv");
+    for (auto* o : writers_) o->at_end(sim);
+    // An unconverged solve leaves its last state for a restart, final checkpoint asked for or not.
+    if (!steady_report_->converged && !scene_.final_checkpoint) write_checkpoint_now(true);
+  }
+
   void time_loop() {
+    if (scene_.steady_solver) return steady_loop();
     Sim& sim = *sim_;
     // A signal is seen by one process; all stop together at the next agreement.
     constexpr long long kSignalCheckInterval = 10;
@@ -219,15 +291,7 @@ class StageLoop {
     const auto loop_start = Clock::now();
     auto seconds = [&]() { return std::chrono::duration<double>(Clock::now() - loop_start).count(); };
     const std::string checkpoint_path = options_.output_dir + "/checkpoint.h5";
-    // Stops the run for a signal: the state as it stands, and what the stage measured.
-    auto stop_for_signal = [&](int signal_number) {
-      progress_->finish();
-      write_checkpoint_now(true);
-      record("signal", seconds(), first_step);
-      throw RunInterrupted("stopped by " + signal_name(signal_number) + " at step " + std::to_string(sim.steps()) +
-                               ", t = " + std::to_string(sim.time()) + " s; the state is in " + checkpoint_path,
-                           signal_number);
-    };
+    auto stop_for_signal = [&](int signal_number) { stop_for(signal_number, seconds(), first_step); };
     try {
       // One that came during the set-up (this stage's, or the run's before it).
       if (sim.communicator().any(stop_signal_pending())) stop_for_signal(stop_signal_received());
@@ -314,7 +378,27 @@ class StageLoop {
     // The time loop of this process (after a restart: since the restart).
     r.wall_seconds = loop_seconds;
     r.warm_started = warm_started_;
-    if (permeability_ && permeability_->monitor().measured()) {
+    if (steady_report_) {
+      const auto& solve = *steady_report_;
+      r.steady_solve = true;
+      r.solver_converged = solve.converged;
+      r.nonlinear_iterations = solve.nonlinear_iterations;
+      r.linear_iterations = solve.linear_iterations;
+      r.rate_evaluations = solve.rate_evaluations;
+      r.solver_residual = solve.residual;
+      r.solver_setup_seconds = solve.setup_seconds;
+      r.solver_solve_seconds = solve.solve_seconds;
+      r.solver_bytes_per_particle = solve.bytes_per_particle;
+    }
+    const double force = force_magnitude(scene_);
+    if (steady_report_ && permeability_ && force > 0) {
+      // The solved state's own k: no pseudo-time, so no span to judge it over.
+      r.has_permeability = true;
+      const auto u = sim.superficial_velocity();
+      for (int i = 0; i < Dim; ++i) r.k[i] = scene_.kinematic_viscosity * u[i] / force, r.u[i] = u[i];
+      r.steady = steady_report_->converged;
+      r.relative_change = r.remaining_change = 0;
+    } else if (permeability_ && permeability_->monitor().measured()) {
       const auto& monitor = permeability_->monitor();
       r.has_permeability = true;
       for (int i = 0; i < Dim; ++i) r.k[i] = monitor.permeability(i), r.u[i] = monitor.superficial_velocity()[i];
@@ -331,6 +415,12 @@ class StageLoop {
     const long long since = sim_->neighbour_rebuilds();
     if (!resume_) return since;
     return static_cast<long long>(resume_->state.neighbour_rebuilds) + std::max(since - 1, 0LL);
+  }
+
+  static double force_magnitude(const SceneConfig& scene) {
+    double force = 0;
+    for (int d = 0; d < Dim; ++d) force += scene.body_force[d] * scene.body_force[d];
+    return std::sqrt(force);
   }
 
   // The one axis a body force points along, or -1 if it has several components.
@@ -365,6 +455,8 @@ class StageLoop {
   std::unique_ptr<FieldFrames<Dim, Sim>> fields_;
   std::unique_ptr<Checkpoints<Sim>> checkpoints_;
   std::unique_ptr<ProgressObserver<Sim>> progress_;
+  std::optional<SteadyReport> steady_report_;  // Solver/Method = steady, once solved
+  double steady_start_residual_ = 0;           // for the progress line's ETA
   std::vector<Observer<Sim>*> probes_, writers_;  // measure, then write: the steady stop comes between
 };
 

@@ -8,7 +8,7 @@ namespace poresph {
 // What a finished stage measured, kept in every later checkpoint
 // (RunState::completed_stages) so that a restarted run reports all of them.
 struct StageRecord {
-  static constexpr int kSize = 19;
+  static constexpr int kSize = 28;
   int level = 0, axis = -1;
   bool half_force = false;
   double spacing = 0;
@@ -19,12 +19,19 @@ struct StageRecord {
   double k[3] = {0, 0, 0};  // the driven column, k_i = nu <u_i> / |F|
   double u[3] = {0, 0, 0};  // the superficial velocity it was measured from
   long long neighbour_rebuilds = 0;
+  // Solver/Method = steady: what the stage's solve did (solver/SteadySolver.hpp).
+  bool steady_solve = false, solver_converged = false;
+  long long nonlinear_iterations = 0, linear_iterations = 0, rate_evaluations = 0;
+  double solver_residual = 0, solver_setup_seconds = 0, solver_solve_seconds = 0, solver_bytes_per_particle = 0;
 
   void append_to(std::vector<double>& values) const {
     const double v[kSize] = {double(level), double(axis), double(half_force), spacing, double(steps),
                              simulated_time, wall_seconds, double(warm_started), double(steady),
                              double(has_permeability), relative_change, remaining_change, k[0], k[1], k[2],
-                             u[0], u[1], u[2], double(neighbour_rebuilds)};
+                             u[0], u[1], u[2], double(neighbour_rebuilds), double(steady_solve),
+                             double(solver_converged), double(nonlinear_iterations), double(linear_iterations),
+                             double(rate_evaluations), solver_residual, solver_setup_seconds, solver_solve_seconds,
+                             solver_bytes_per_particle};
     values.insert(values.end(), v, v + kSize);
   }
   static StageRecord read(const double* v) {
@@ -36,6 +43,11 @@ struct StageRecord {
     r.k[0] = v[12], r.k[1] = v[13], r.k[2] = v[14];
     r.u[0] = v[15], r.u[1] = v[16], r.u[2] = v[17];
     r.neighbour_rebuilds = static_cast<long long>(v[18]);
+    r.steady_solve = v[19] != 0, r.solver_converged = v[20] != 0;
+    r.nonlinear_iterations = static_cast<long long>(v[21]), r.linear_iterations = static_cast<long long>(v[22]);
+    r.rate_evaluations = static_cast<long long>(v[23]);
+    r.solver_residual = v[24], r.solver_setup_seconds = v[25], r.solver_solve_seconds = v[26];
+    r.solver_bytes_per_particle = v[27];
     return r;
   }
 };

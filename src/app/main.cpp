@@ -40,7 +40,8 @@ constexpr const char* kUsage =
     "grains); a mismatch is refused, naming what differs.\n"
     "--inject-nan STEP makes step STEP end with a NaN velocity, to test the failure path.\n"
     "Exit status: 0 done, 1 error (I/O, MPI), 2 bad input or a refused run (nothing written), 3 the run failed\n"
-    "(a checkpoint of the last good state was written), 128 + signal after SIGHUP (129), SIGINT (130), SIGPIPE\n"
+    "(a checkpoint of the last good state was written), 4 a steady solve (Solver/Method) did not converge\n"
+    "(its last state is in checkpoint.h5, summary.json says so), 128 + signal after SIGHUP (129), SIGINT (130), SIGPIPE\n"
     "(141) or SIGTERM (143), each with a checkpoint and summary.json.\n"
     "Kokkos options (--kokkos-threads=N, ...) are passed on to Kokkos. See docs/reliability.md.\n";
 
@@ -155,10 +156,17 @@ int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const p
     // after the scene's own warnings, which were said above.
     for (size_t w = scene.warnings.size(); w < report.warnings.size(); ++w)
       std::cerr << "poresph: warning: " << report.warnings[w] << "\n";
-    std::cout << "poresph: " << scene.name << ": " << report.steps << " steps to t = " << report.simulated_time
-              << " s in " << report.wall_seconds << " s; summary in " << options.output_dir << "/summary.json\n";
+    if (report.solver.method == "steady")
+      std::cout << "poresph: " << scene.name << ": steady solve " << (report.solver.converged ? "converged" : "NOT converged")
+                << " (" << report.solver.nonlinear_iterations << " Newton, " << report.solver.linear_iterations
+                << " linear iterations, relative residual " << report.solver.residual << ") in " << report.wall_seconds
+                << " s; summary in " << options.output_dir << "/summary.json\n";
+    else
+      std::cout << "poresph: " << scene.name << ": " << report.steps << " steps to t = " << report.simulated_time
+                << " s in " << report.wall_seconds << " s; summary in " << options.output_dir << "/summary.json\n";
   }
-  return 0;
+  // A steady solve short of its tolerance wrote its state and summary, and says so.
+  return report.solver.method == "steady" && !report.solver.converged ? 4 : 0;
 }
 
 }  // namespace

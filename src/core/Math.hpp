@@ -5,12 +5,14 @@
 
 namespace poresph::math {
 #if KOKKOS_VERSION >= 40000
+using Kokkos::cos;
 using Kokkos::exp;
 using Kokkos::expm1;
 using Kokkos::fabs;
 using Kokkos::floor;
 using Kokkos::sqrt;
 #else
+using Kokkos::Experimental::cos;
 using Kokkos::Experimental::exp;
 using Kokkos::Experimental::expm1;
 using Kokkos::Experimental::fabs;

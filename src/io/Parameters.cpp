@@ -274,6 +274,37 @@ RCP<ParameterList> make_valid_parameters() {
           one_of({"auto", "always", "never"}));
   }
   {
+    auto& s = list->sublist("Solver", false,
+                            "How the steady state is found (docs/steady_solver.md).");
+    s.set("Method", std::string("explicit"),
+          "'explicit': march the equations in time (pseudo-time for fixed particles) until k is steady or "
+          "Run/End Time; transients and moving particles need it. 'steady': fixed particles only; solve for the "
+          "state whose rates are zero (up to the uniform density drift a wall makes) by Newton's method, each "
+          "step by flexible GMRES with a block (LSC) preconditioner, with the time loop's own operators: the same "
+          "discrete answer without pseudo-time. Run/End Time and Run/Max Steps do not apply to it.",
+          one_of({"explicit", "steady"}));
+    s.set("Tolerance", 1e-6,
+          "'steady': converged when the residual of the steady equations, the uniform density drift removed, "
+          "is below this fraction of its size at rest (v = 0, rho = rho0).",
+          real_in(1e-14, 0.5));
+    s.set("Linear Tolerance", 1e-8,
+          "'steady': the least relative residual a Newton step's linear solve is asked for (each step asks for "
+          "what takes the residual to a tenth of Tolerance, were the equations linear).",
+          real_in(1e-14, 0.5));
+    s.set("Max Nonlinear Iterations", 10, "'steady': Newton steps at most.", int_in(1, 1000));
+    s.set("Max Linear Iterations", 1000,
+          "'steady': outer GMRES iterations per Newton step at most. A solve that does not converge within "
+          "them ends with a warning, exit status 4 and its last state in the final checkpoint.",
+          int_in(1, 1 << 20));
+    s.set("Krylov Restart", 30, "'steady': GMRES restart length (vectors kept; memory grows with it).",
+          int_in(2, 1000));
+    s.set("Inner Tolerance", 1e-2,
+          "'steady': relative tolerance of the preconditioner's inner solves (the pressure operator DG and the "
+          "velocity block).",
+          real_in(1e-12, 0.9));
+    s.set("Max Inner Iterations", 100, "'steady': iterations of each inner solve at most.", int_in(1, 1 << 20));
+  }
+  {
     auto& s = list->sublist("Parallel", false, "How the cell is divided among MPI processes.");
     s.set("Decomposition", std::string("rcb"),
           "'rcb': Zoltan2 recursive coordinate bisection weighted by the particles each box will hold; "

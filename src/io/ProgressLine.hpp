@@ -57,6 +57,17 @@ class ProgressLine {
     printed_ = true;
   }
 
+  // A line of the caller's own (a steady solve's iterations), at the same pace.
+  void update_text(const std::string& label, const std::string& text) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_).count() < 0.25) return;
+    last_ = now;
+    std::printf("\r%s%s   ", label.c_str(), text.c_str());
+    std::fflush(stdout);
+    printed_ = true;
+  }
+
   void finish() {
     if (printed_) std::printf("\n");
     printed_ = false;
@@ -85,6 +96,10 @@ class ProgressObserver : public Observer<Sim> {
     line_.update(label_, s);
   }
   void at_end(Sim&) override { line_.finish(); }
+  // A steady solve's own line (it has no steps).
+  void show(const std::string& text) {
+    if (enabled_) line_.update_text(label_, text);
+  }
   // Ends the line before other output (a failure, a signal).
   void finish() { line_.finish(); }
 

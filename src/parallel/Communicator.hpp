@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace poresph {
@@ -74,6 +75,22 @@ class Communicator {
     MPI_Gatherv(values.data(), static_cast<int>(count), MPI_LONG_LONG, all.data(), lengths.data(), offsets.data(),
                 MPI_LONG_LONG, 0, comm_);
     return all;
+  }
+  // Every rank's values, concatenated in rank order, on every rank; counts:
+  // how many each rank gives, the same on every call with the same sizes
+  // (the caller keeps them: all_gather_counts).
+  std::vector<int> all_gather_counts(int count) const {
+    std::vector<int> counts(size_);
+    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+    return counts;
+  }
+  template <class T>
+  void all_gather(const T* values, const std::vector<int>& counts, T* all) const {
+    std::vector<int> offsets(size_, 0);
+    for (int r = 1; r < size_; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+    static_assert(std::is_same<T, double>::value || std::is_same<T, long long>::value, "all_gather: double or long long");
+    const MPI_Datatype type = std::is_same<T, double>::value ? MPI_DOUBLE : MPI_LONG_LONG;
+    MPI_Allgatherv(values, counts[rank_], type, all, counts.data(), offsets.data(), type, comm_);
   }
   // Rank 0's flag, on every rank.
   bool broadcast(bool flag) const {

@@ -326,6 +326,27 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
 
   check_measurement(scene);
 
+  const auto& solver = list.sublist("Solver");
+  scene.steady_solver = solver.get<std::string>("Method") == "steady";
+  scene.solver_tolerance = solver.get<double>("Tolerance");
+  scene.solver_linear_tolerance = solver.get<double>("Linear Tolerance");
+  scene.solver_max_nonlinear_iterations = solver.get<int>("Max Nonlinear Iterations");
+  scene.solver_max_linear_iterations = solver.get<int>("Max Linear Iterations");
+  scene.solver_restart = solver.get<int>("Krylov Restart");
+  scene.solver_inner_tolerance = solver.get<double>("Inner Tolerance");
+  scene.solver_max_inner_iterations = solver.get<int>("Max Inner Iterations");
+  if (scene.steady_solver) {
+    // What the steady equations are: those of particles that stay where they are.
+    if (scene.particle_motion != ParticleMotion::Fixed)
+      fail("Solver/Method = steady solves for the steady state of fixed particles; Discretization/Particle "
+           "Motion = lagrangian particles move, so their flow has no steady state to solve for: march it with "
+           "Solver/Method = explicit");
+    if (scene.has_solid() || scene.walls != WallType::None)
+      if (scene.wall_pressure != WallPressure::Extrapolated)
+        fail("Solver/Method = steady needs Discretization/Wall Pressure = extrapolated: with 'continuity' the "
+             "boundary particles' densities are unknowns of their own that keep changing while the fluid flows");
+  }
+
   const auto& output = list.sublist("Output");
   scene.write_final_particles = output.get<bool>("Final Particles CSV");
   scene.field_interval = output.get<double>("Field Interval");

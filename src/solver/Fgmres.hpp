@@ -1,0 +1,157 @@
+#pragma once
+// Flexible GMRES (Saad 1993) on distributed vectors: each process holds its
+// own rows in a Kokkos View, and inner products are summed over processes.
+// Flexible, because the steady solver's preconditioner is itself a set of
+// inexact inner solves that change from one application to the next.
+#include <Kokkos_Core.hpp>
+
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "parallel/Communicator.hpp"
+
+namespace poresph {
+
+// The vector operations a Krylov method needs, as labelled kernels, with the
+// inner products summed over the processes of `comm`.
+template <class ExecSpace>
+struct KrylovVectors {
+  using View = Kokkos::View<double*, typename ExecSpace::memory_space>;
+  ExecSpace space;
+  Communicator comm;
+
+  View make(const std::string& label, size_t n) const { return View(label, n); }
+
+  double dot(const View& a, const View& b) const {
+    double local = 0;
+    static const std::string label = "poresph::krylov::dot";
+    Kokkos::parallel_reduce(
+        label, Kokkos::RangePolicy<ExecSpace>(space, 0, a.extent(0)),
+        KOKKOS_LAMBDA(int i, double& sum) { sum += a(i) * b(i); }, local);
+    return comm.sum(local);
+  }
+  double norm(const View& a) const { return std::sqrt(dot(a, a)); }
+  // y = alpha x + beta y
+  void update(double alpha, const View& x, double beta, const View& y) const {
+    static const std::string label = "poresph::krylov::update";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space, 0, y.extent(0)),
+        KOKKOS_LAMBDA(int i) { y(i) = alpha * x(i) + beta * y(i); });
+    space.fence();
+  }
+  void fill(const View& y, double value) const {
+    Kokkos::deep_copy(space, y, value);
+    space.fence();
+  }
+  void copy(const View& from, const View& to) const {
+    Kokkos::deep_copy(space, to, from);
+    space.fence();
+  }
+};
+
+struct KrylovOptions {
+  double tolerance = 1e-6;  // on ||b - A x|| / ||b||
+  int max_iterations = 500;
+  int restart = 30;
+  // Called after every iteration with the iteration count and relative
+  // residual; returning true abandons the solve (a stop signal).
+  std::function<bool(int, double)> after_iteration;
+};
+
+struct KrylovResult {
+  int iterations = 0;
+  double relative_residual = 0;
+  bool converged = false;
+  bool abandoned = false;
+};
+
+// Solves A x = b from the x given (right-preconditioned: A M z = b, x = M z).
+// apply(in, out): out = A in; precondition(in, out): out = M in. Neither may
+// keep references to its arguments.
+template <class ExecSpace, class Apply, class Precondition>
+KrylovResult fgmres(const KrylovVectors<ExecSpace>& ops, Apply&& apply, Precondition&& precondition,
+                    const typename KrylovVectors<ExecSpace>::View& b, const typename KrylovVectors<ExecSpace>::View& x,
+                    const KrylovOptions& options) {
+  using View = typename KrylovVectors<ExecSpace>::View;
+  KrylovResult result;
+  const size_t n = b.extent(0);
+  const double norm_b = ops.norm(b);
+  if (norm_b == 0) {
+    ops.fill(x, 0.0);
+    result.converged = true;
+    return result;
+  }
+  const int m = options.restart;
+  std::vector<View> V, Z;
+  for (int j = 0; j <= m; ++j) V.push_back(ops.make("fgmres_V", n));
+  for (int j = 0; j < m; ++j) Z.push_back(ops.make("fgmres_Z", n));
+  View w = ops.make("fgmres_w", n);
+  std::vector<double> H((m + 1) * m), g(m + 1), cs(m), sn(m);
+  auto h = [&](int i, int j) -> double& { return H[i * m + j]; };
+
+  while (true) {
+    // r = b - A x
+    apply(x, w);
+    ops.copy(b, V[0]);
+    ops.update(-1.0, w, 1.0, V[0]);
+    const double beta = ops.norm(V[0]);
+    result.relative_residual = beta / norm_b;
+    if (result.relative_residual <= options.tolerance) {
+      result.converged = true;
+      return result;
+    }
+    if (result.iterations >= options.max_iterations) return result;
+    ops.update(0.0, V[0], 1.0 / beta, V[0]);
+    std::fill(g.begin(), g.end(), 0.0);
+    g[0] = beta;
+    int k = 0;
+    for (; k < m && result.iterations < options.max_iterations; ++k) {
+      precondition(V[k], Z[k]);
+      apply(Z[k], w);
+      // Modified Gram-Schmidt.
+      for (int i = 0; i <= k; ++i) {
+        h(i, k) = ops.dot(w, V[i]);
+        ops.update(-h(i, k), V[i], 1.0, w);
+      }
+      h(k + 1, k) = ops.norm(w);
+      if (h(k + 1, k) > 0) ops.update(1.0 / h(k + 1, k), w, 0.0, V[k + 1]);
+      for (int i = 0; i < k; ++i) {
+        const double a = h(i, k), c = h(i + 1, k);
+        h(i, k) = cs[i] * a + sn[i] * c;
+        h(i + 1, k) = -sn[i] * a + cs[i] * c;
+      }
+      const double d = std::hypot(h(k, k), h(k + 1, k));
+      cs[k] = d > 0 ? h(k, k) / d : 1.0;
+      sn[k] = d > 0 ? h(k + 1, k) / d : 0.0;
+      h(k, k) = d;
+      h(k + 1, k) = 0;
+      g[k + 1] = -sn[k] * g[k];
+      g[k] = cs[k] * g[k];
+      ++result.iterations;
+      result.relative_residual = std::abs(g[k + 1]) / norm_b;
+      const bool breakdown = d == 0;
+      if (options.after_iteration && options.after_iteration(result.iterations, result.relative_residual)) {
+        result.abandoned = true;
+        ++k;
+        break;
+      }
+      if (result.relative_residual <= options.tolerance || breakdown) {
+        ++k;
+        break;
+      }
+    }
+    // x += Z y, H y = g (upper triangular, k columns)
+    std::vector<double> y(k);
+    for (int i = k - 1; i >= 0; --i) {
+      double s = g[i];
+      for (int j = i + 1; j < k; ++j) s -= h(i, j) * y[j];
+      y[i] = h(i, i) != 0 ? s / h(i, i) : 0.0;
+    }
+    for (int i = 0; i < k; ++i) ops.update(y[i], Z[i], 1.0, x);
+    if (result.abandoned) return result;
+    // The next cycle starts from the true residual, which also settles convergence.
+  }
+}
+
+}  // namespace poresph

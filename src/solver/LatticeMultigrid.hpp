@@ -1,0 +1,282 @@
+#pragma once
+// A scalar operator on a periodic lattice of points, some of them unknowns
+// (fluid) and some not (solid): the graph Laplacian with 2 Dim nearest
+// neighbours, a solid neighbour counted on the diagonal (Dirichlet), and its
+// multigrid by aggregation of 2^Dim blocks of points, with Galerkin coarse
+// operators (again such lattices) and piecewise-constant transfer.
+//
+// The steady solver preconditions with it: the velocity block is near a
+// compact Laplacian, and the pressure operator DG near the wide one (stride
+// 2), which splits into 2^Dim compact ones on the sub-lattices of spacing 2
+// (docs/steady_solver.md). Both are solved here on the whole lattice, which
+// every process holds (solver/LatticePreconditioner.hpp gathers it).
+#include <Kokkos_Core.hpp>
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace poresph {
+
+template <int Dim, class ExecSpace>
+class LatticeMultigrid {
+ public:
+  using MemorySpace = typename ExecSpace::memory_space;
+  using View = Kokkos::View<double*, MemorySpace>;
+  using Couplings = Kokkos::View<double* [Dim], MemorySpace>;
+
+  LatticeMultigrid() = default;
+
+  // shape: points per axis; active(i) = 1 for an unknown (x fastest).
+  // shift: added to the diagonal of the finest level, relative to its
+  // largest entry (a lattice with no solid has the constant as null vector).
+  LatticeMultigrid(const ExecSpace& space, const std::array<int, Dim>& shape, const std::vector<char>& active,
+                   double shift = 1e-10)
+      : space_(space) {
+    Level fine = make_level(shape);
+    auto diag = Kokkos::create_mirror_view(fine.diag);
+    auto up = Kokkos::create_mirror_view(fine.up);
+    for (long long i = 0; i < fine.size; ++i) {
+      if (!active[i]) continue;
+      diag(i) = 2.0 * Dim * (1.0 + shift);
+      for (int d = 0; d < Dim; ++d) up(i, d) = active[neighbour(fine, i, d, +1)] ? 1.0 : 0.0;
+    }
+    Kokkos::deep_copy(fine.diag, diag);
+    Kokkos::deep_copy(fine.up, up);
+    levels_.push_back(fine);
+    while (levels_.back().size > kCoarsest) {
+      bool coarser = false;
+      for (int d = 0; d < Dim; ++d) coarser = coarser || levels_.back().shape[d] > 1;
+      if (!coarser) break;
+      levels_.push_back(coarsen(levels_.back()));
+    }
+  }
+
+  long long size() const { return levels_.empty() ? 0 : levels_.front().size; }
+  int levels() const { return static_cast<int>(levels_.size()); }
+
+  // x = one V(2,2) cycle for L x = b from x = 0 (symmetric Gauss-Seidel by
+  // colours), b and x over all points of the finest lattice.
+  void cycle(const View& b, const View& x) const {
+    Kokkos::deep_copy(space_, x, 0.0);
+    Kokkos::deep_copy(space_, levels_[0].b, b);
+    cycle_from(0);
+    Kokkos::deep_copy(space_, x, levels_[0].x);
+    space_.fence();
+  }
+
+  // y = L x on the finest lattice.
+  void apply(const View& x, const View& y) const { apply_level(levels_[0], x, y); }
+
+ private:
+  static constexpr long long kCoarsest = 64;
+  struct Level {
+    std::array<int, Dim> shape{};
+    long long size = 0;
+    View diag, x, b, r;
+    Couplings up;  // to the +e_d neighbour; the -e_d coupling is the neighbour's up
+  };
+
+  Level make_level(const std::array<int, Dim>& shape) const {
+    Level level;
+    level.shape = shape;
+    level.size = 1;
+    for (int d = 0; d < Dim; ++d) level.size *= shape[d];
+    level.diag = View("multigrid_diag", level.size);
+    level.x = View("multigrid_x", level.size);
+    level.b = View("multigrid_b", level.size);
+    level.r = View("multigrid_r", level.size);
+    level.up = Couplings("multigrid_up", level.size);
+    return level;
+  }
+
+  KOKKOS_INLINE_FUNCTION static long long neighbour_of(const std::array<int, Dim>& shape, long long i, int axis,
+                                                       int step) {
+    long long stride = 1;
+    for (int d = 0; d < axis; ++d) stride *= shape[d];
+    const int coordinate = static_cast<int>((i / stride) % shape[axis]);
+    const int moved = (coordinate + step + shape[axis]) % shape[axis];
+    return i + (moved - coordinate) * stride;
+  }
+  static long long neighbour(const Level& level, long long i, int axis, int step) {
+    return neighbour_of(level.shape, i, axis, step);
+  }
+
+  // Aggregates of 2^Dim points (fewer at an odd end); Galerkin with
+  // piecewise-constant P: a coarse coupling sums the fine couplings between
+  // the two aggregates, a coarse diagonal the fine entries within one.
+  Level coarsen(const Level& fine) const {
+    std::array<int, Dim> shape;
+    for (int d = 0; d < Dim; ++d) shape[d] = (fine.shape[d] + 1) / 2;
+    Level coarse = make_level(shape);
+    auto fdiag = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fine.diag);
+    auto fup = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fine.up);
+    auto cdiag = Kokkos::create_mirror_view(coarse.diag);
+    auto cup = Kokkos::create_mirror_view(coarse.up);
+    Kokkos::deep_copy(cdiag, 0.0);
+    Kokkos::deep_copy(cup, 0.0);
+    for (long long i = 0; i < fine.size; ++i) {
+      if (fdiag(i) == 0) continue;
+      const long long I = aggregate(fine, coarse, i);
+      cdiag(I) += fdiag(i);
+      for (int d = 0; d < Dim; ++d) {
+        if (fup(i, d) == 0) continue;
+        const long long J = aggregate(fine, coarse, neighbour(fine, i, d, +1));
+        if (J == I)
+          cdiag(I) -= 2 * fup(i, d);
+        else
+          cup(I, d) += fup(i, d);
+      }
+    }
+    Kokkos::deep_copy(coarse.diag, cdiag);
+    Kokkos::deep_copy(coarse.up, cup);
+    return coarse;
+  }
+
+  static long long aggregate(const Level& fine, const Level& coarse, long long i) {
+    long long I = 0, stride = 1, fine_stride = 1;
+    for (int d = 0; d < Dim; ++d) {
+      const int c = static_cast<int>((i / fine_stride) % fine.shape[d]);
+      I += (c / 2) * stride;
+      stride *= coarse.shape[d];
+      fine_stride *= fine.shape[d];
+    }
+    return I;
+  }
+
+  // A line of points along x: its first point, the parity of its other
+  // coordinates, and the offsets to its neighbours along the other axes
+  // (periodic), the same for every point of the line.
+  struct Line {
+    long long first;
+    int parity;
+    long long below[Dim], above[Dim];
+  };
+  KOKKOS_INLINE_FUNCTION static Line line_of(const std::array<int, Dim>& shape, long long line) {
+    Line l;
+    l.first = line * shape[0];
+    l.parity = 0;
+    long long rest = line, stride = shape[0];
+    l.below[0] = l.above[0] = 0;
+    for (int d = 1; d < Dim; ++d) {
+      const int c = static_cast<int>(rest % shape[d]);
+      rest /= shape[d];
+      l.parity += c;
+      l.above[d] = c + 1 == shape[d] ? -(shape[d] - 1) * stride : stride;
+      l.below[d] = c == 0 ? (shape[d] - 1) * stride : -stride;
+      stride *= shape[d];
+    }
+    return l;
+  }
+  // (L x)_i, or the Gauss-Seidel update b_i + sum of couplings x_j, at point c of a line.
+  KOKKOS_INLINE_FUNCTION static double couplings(const Couplings& up, const View& x, const Line& l, int c, int n) {
+    const long long i = l.first + c;
+    const long long left = c == 0 ? i + n - 1 : i - 1, right = c + 1 == n ? i - (n - 1) : i + 1;
+    double sum = up(i, 0) * x(right) + up(left, 0) * x(left);
+    for (int d = 1; d < Dim; ++d) sum += up(i, d) * x(i + l.above[d]) + up(i + l.below[d], d) * x(i + l.below[d]);
+    return sum;
+  }
+
+  void apply_level(const Level& level, const View& x, const View& y) const {
+    const auto diag = level.diag;
+    const auto up = level.up;
+    const auto shape = level.shape;
+    const long long lines = level.size / shape[0];
+    static const std::string label = "poresph::multigrid::apply";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, lines), KOKKOS_LAMBDA(long long line) {
+          const Line l = line_of(shape, line);
+          for (int c = 0; c < shape[0]; ++c) {
+            const long long i = l.first + c;
+            y(i) = diag(i) == 0 ? 0.0 : diag(i) * x(i) - couplings(up, x, l, c, shape[0]);
+          }
+        });
+    space_.fence();
+  }
+
+  // One Gauss-Seidel sweep by colours (the parity of the coordinates'
+  // sum: independent points of a 2 Dim + 1 stencil on an even lattice), in
+  // colour order 0, 1 or 1, 0.
+  void smooth(const Level& level, bool forward) const {
+    const auto diag = level.diag;
+    const auto up = level.up;
+    const auto shape = level.shape;
+    const auto x = level.x, b = level.b;
+    const long long lines = level.size / shape[0];
+    for (int k = 0; k < 2; ++k) {
+      const int colour = forward ? k : 1 - k;
+      static const std::string label = "poresph::multigrid::smooth";
+      Kokkos::parallel_for(
+          label, Kokkos::RangePolicy<ExecSpace>(space_, 0, lines), KOKKOS_LAMBDA(long long line) {
+            const Line l = line_of(shape, line);
+            for (int c = (colour + l.parity) % 2; c < shape[0]; c += 2) {
+              const long long i = l.first + c;
+              if (diag(i) != 0) x(i) = (b(i) + couplings(up, x, l, c, shape[0])) / diag(i);
+            }
+          });
+      space_.fence();
+    }
+  }
+
+  void cycle_from(size_t l) const {
+    const Level& level = levels_[l];
+    if (l + 1 == levels_.size()) {
+      for (int sweep = 0; sweep < 50; ++sweep) smooth(level, sweep % 2 == 0);
+      return;
+    }
+    smooth(level, true);
+    smooth(level, true);
+    apply_level(level, level.x, level.r);
+    const Level& coarse = levels_[l + 1];
+    const auto r = level.r, b = level.b, diag = level.diag;
+    const auto cb = coarse.b, cx = coarse.x;
+    const auto fine_shape = level.shape, coarse_shape = coarse.shape;
+    Kokkos::deep_copy(space_, cb, 0.0);
+    Kokkos::deep_copy(space_, cx, 0.0);
+    space_.fence();
+    // Restriction: the aggregate's sum of residuals. Serial in the
+    // aggregate (several fine points add to one coarse one).
+    static const std::string label_restrict = "poresph::multigrid::restrict";
+    Kokkos::parallel_for(
+        label_restrict, Kokkos::RangePolicy<ExecSpace>(space_, 0, coarse.size), KOKKOS_LAMBDA(long long I) {
+          double sum = 0;
+          for (int corner = 0; corner < (1 << Dim); ++corner) {
+            long long i = 0, stride = 1, rest = I;
+            bool inside = true;
+            for (int d = 0; d < Dim; ++d) {
+              const int c = 2 * static_cast<int>(rest % coarse_shape[d]) + ((corner >> d) & 1);
+              rest /= coarse_shape[d];
+              inside = inside && c < fine_shape[d];
+              i += c * stride;
+              stride *= fine_shape[d];
+            }
+            if (inside && diag(i) != 0) sum += b(i) - r(i);
+          }
+          cb(I) = sum;
+        });
+    space_.fence();
+    cycle_from(l + 1);
+    const auto x = level.x;
+    static const std::string label_prolong = "poresph::multigrid::prolong";
+    Kokkos::parallel_for(
+        label_prolong, Kokkos::RangePolicy<ExecSpace>(space_, 0, level.size), KOKKOS_LAMBDA(long long i) {
+          if (diag(i) == 0) return;
+          long long I = 0, stride = 1, rest = i;
+          for (int d = 0; d < Dim; ++d) {
+            I += (static_cast<int>(rest % fine_shape[d]) / 2) * stride;
+            rest /= fine_shape[d];
+            stride *= coarse_shape[d];
+          }
+          x(i) += cx(I);
+        });
+    space_.fence();
+    smooth(level, false);
+    smooth(level, false);
+  }
+
+  ExecSpace space_;
+  std::vector<Level> levels_;
+};
+
+}  // namespace poresph

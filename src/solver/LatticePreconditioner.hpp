@@ -1,0 +1,141 @@
+#pragma once
+// A lattice Laplacian (solver/LatticeMultigrid.hpp) as the preconditioner of
+// an operator on the fluid particles of a fixed-particle scene: the compact
+// one (stride 1) for the velocity block, the wide one (stride 2, the 2^Dim
+// sub-lattices of spacing 2, each a compact Laplacian) for the pressure
+// operator DG, whose weak modes, like the wide Laplacian's, sit at the
+// corners of the Brillouin zone (docs/steady_solver.md).
+//
+// Every process holds the whole lattice: the right-hand side is gathered
+// (MPI_Allgatherv), each process runs the same cycles, and keeps the values
+// of its own particles. Set-up and memory are those of the whole lattice on
+// each process: enough for a few processes, not for many.
+#include <Kokkos_Core.hpp>
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "parallel/Communicator.hpp"
+#include "solver/LatticeMultigrid.hpp"
+
+namespace poresph {
+
+template <int Dim, class ExecSpace>
+class LatticePreconditioner {
+ public:
+  using MemorySpace = typename ExecSpace::memory_space;
+  using View = Kokkos::View<double*, MemorySpace>;
+
+  LatticePreconditioner() = default;
+
+  // x: positions of the owned particles; fluid: 1 for a fluid particle, 0
+  // else; lattice: points per axis of the cell at spacing dx. A stride of 2
+  // needs an even number of points along every axis (available() says).
+  template <class Positions>
+  LatticePreconditioner(const ExecSpace& space, const Communicator& comm, const Positions& x, const View& fluid,
+                        int owned, const std::array<int, Dim>& lattice, double dx, int stride)
+      : space_(space), comm_(comm), stride_(stride) {
+    for (int d = 0; d < Dim; ++d) available_ = available_ && lattice[d] % stride == 0;
+    if (comm_.any(!available_)) {
+      available_ = false;
+      return;
+    }
+    auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), x);
+    auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fluid);
+    std::vector<long long> mine;
+    for (int i = 0; i < owned; ++i) {
+      if (hf(i) == 0) continue;
+      own_.push_back(i);
+      long long g = 0, s = 1;
+      for (int d = 0; d < Dim; ++d) {
+        g += static_cast<long long>(std::floor(hx(i, d) / dx)) * s;
+        s *= lattice[d];
+      }
+      mine.push_back(g);
+    }
+    counts_ = comm_.all_gather_counts(static_cast<int>(mine.size()));
+    long long total = 0;
+    for (int c : counts_) total += c;
+    std::vector<long long> all(total);
+    comm_.all_gather(mine.data(), counts_, all.data());
+    // Sub-lattices (stride 2) or the one lattice (stride 1), and where each gathered value goes.
+    std::array<int, Dim> shape;
+    for (int d = 0; d < Dim; ++d) shape[d] = lattice[d] / stride;
+    const int lattices = stride == 2 ? 1 << Dim : 1;
+    long long points = 1;
+    for (int d = 0; d < Dim; ++d) points *= shape[d];
+    std::vector<std::vector<char>> active(lattices, std::vector<char>(points, 0));
+    sub_.resize(total), local_.resize(total);
+    for (long long k = 0; k < total; ++k) {
+      long long rest = all[k], local = 0, s = 1;
+      int sub = 0;
+      for (int d = 0; d < Dim; ++d) {
+        const long long c = rest % lattice[d];
+        rest /= lattice[d];
+        if (stride == 2) sub |= static_cast<int>(c % 2) << d;
+        local += (c / stride) * s;
+        s *= shape[d];
+      }
+      sub_[k] = sub, local_[k] = local;
+      active[sub][local] = 1;
+    }
+    for (int l = 0; l < lattices; ++l) {
+      multigrid_.emplace_back(space, shape, active[l]);
+      b_.push_back(View("lattice_b", points));
+      z_.push_back(View("lattice_z", points));
+    }
+    gathered_ = std::vector<double>(total);
+    offset_ = 0;
+    for (int r = 0; r < comm_.rank(); ++r) offset_ += counts_[r];
+  }
+
+  bool available() const { return available_; }
+  // Doubles each process holds for it, per particle of its own (for the memory report).
+  double values_held() const {
+    double values = static_cast<double>(gathered_.size()) * 3;
+    for (const auto& b : b_) values += 6.0 * b.extent(0);  // b, z, and the finest level's own four
+    return values;
+  }
+
+  // z = (one V-cycle of the lattice Laplacian per sub-lattice) r, on the fluid entries.
+  void apply(const View& r, const View& z) const {
+    auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), r);
+    std::vector<double> mine(own_.size());
+    for (size_t k = 0; k < own_.size(); ++k) mine[k] = hr(own_[k]);
+    comm_.all_gather(mine.data(), counts_, gathered_.data());
+    std::vector<decltype(Kokkos::create_mirror_view(b_[0]))> hb;
+    for (const auto& b : b_) {
+      hb.push_back(Kokkos::create_mirror_view(b));
+      Kokkos::deep_copy(hb.back(), 0.0);
+    }
+    for (size_t k = 0; k < gathered_.size(); ++k) hb[sub_[k]](local_[k]) = gathered_[k];
+    std::vector<decltype(Kokkos::create_mirror_view(z_[0]))> hz;
+    for (size_t l = 0; l < b_.size(); ++l) {
+      Kokkos::deep_copy(b_[l], hb[l]);
+      multigrid_[l].cycle(b_[l], z_[l]);
+      hz.push_back(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), z_[l]));
+    }
+    auto out = Kokkos::create_mirror_view(z);
+    Kokkos::deep_copy(out, 0.0);
+    for (size_t k = 0; k < own_.size(); ++k) out(own_[k]) = hz[sub_[offset_ + k]](local_[offset_ + k]);
+    Kokkos::deep_copy(z, out);
+  }
+
+ private:
+  ExecSpace space_;
+  Communicator comm_;
+  int stride_ = 1;
+  bool available_ = true;
+  std::vector<int> own_;           // owned fluid particles, in the order gathered
+  std::vector<int> counts_;        // fluid particles per process
+  long long offset_ = 0;           // this process's first in the gathered order
+  std::vector<int> sub_;           // per gathered value: its sub-lattice
+  std::vector<long long> local_;   // and its point there
+  std::vector<LatticeMultigrid<Dim, ExecSpace>> multigrid_;
+  std::vector<View> b_, z_;
+  mutable std::vector<double> gathered_;
+};
+
+}  // namespace poresph

@@ -1,0 +1,477 @@
+#pragma once
+// Steady fixed-particle flow by solving F(y) = 0 (solver/SteadySystem.hpp)
+// instead of marching in pseudo-time: Newton's method, each step's linear
+// system solved by flexible GMRES with a block preconditioner built from the
+// same rate evaluations (docs/steady_solver.md).
+//
+// The bordered Newton system. SPH continuity is not conservative at walls,
+// so the steady state the march reaches keeps a uniform density drift
+// lambda: the rates are zero up to d q / dt = lambda. Each Newton step
+// solves J u + e lambda = -F, e . u = 0, with e the density rows of the
+// fluid, normalised: the mean density stays where it is.
+//
+// The preconditioner is block upper-triangular, [[A, G], [0, S]]^-1, with
+// A the velocity block, G the pressure gradient (velocity rows, density
+// columns), D continuity (density rows, velocity columns) and S = -D A^-1 G
+// approximated by the least-squares commutator (LSC, Elman et al. 2006):
+// S^-1 ~ -(DG)^-1 (D Q^-1 A Q^-1 G) (DG)^-1, DG = D Q^-1 G, Q = diag(A).
+// The inner solves ((DG)^-1, A^-1) are GMRES to a loose tolerance; the
+// pressure solve is the seam where a multigrid for DG goes (the smoothed
+// aggregation that docs/steady_solver.md measures).
+#include <Kokkos_Core.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <algorithm>
+#include <array>
+#include <functional>
+#include <limits>
+#include <string>
+
+#include "core/Math.hpp"
+#include "solver/Fgmres.hpp"
+#include "solver/LatticePreconditioner.hpp"
+#include "solver/SteadySystem.hpp"
+
+namespace poresph {
+
+struct SteadyOptions {
+  double tolerance = 1e-6;         // Solver/Tolerance: on ||F - e (e . F)|| / ||F at rest||
+  double linear_tolerance = 1e-8;  // Solver/Linear Tolerance: the least a Newton step's solve is asked for
+  int max_nonlinear_iterations = 10;
+  int max_linear_iterations = 1000;  // per Newton step
+  int restart = 30;
+  double inner_tolerance = 1e-2;
+  int max_inner_iterations = 100;
+};
+
+// What a solve did; summary.json's `solver`.
+struct SteadyReport {
+  bool converged = false;
+  bool interrupted = false;  // a stop signal came: the state is the last Newton iterate
+  int nonlinear_iterations = 0;
+  long long linear_iterations = 0;
+  long long inner_iterations = 0;
+  long long rate_evaluations = 0;
+  double residual = std::numeric_limits<double>::quiet_NaN();
+  double setup_seconds = 0, solve_seconds = 0;
+  double bytes_per_particle = 0;  // what the solver allocates, over the particles (fluid and boundary)
+};
+
+// Where a solve stands, for the progress line.
+struct SteadyProgress {
+  int nonlinear_iterations = 0;
+  long long linear_iterations = 0;
+  double residual = 0;         // of the nonlinear system, relative
+  double linear_residual = 0;  // of the Newton step being solved
+};
+
+template <int Dim, class ExecSpace>
+class SteadySolver {
+ public:
+  using System = SteadySystem<Dim, ExecSpace>;
+  using View = typename System::View;
+  using Clock = std::chrono::steady_clock;
+  // The preconditioner's products: near J is enough, at one rate evaluation each.
+  static constexpr auto kForward = System::Accuracy::Forward;
+
+  // should_stop: asked after every linear iteration (all processes agree);
+  // progress: told after every linear iteration and Newton step.
+  SteadySolver(typename System::Sim& sim, const ExecSpace& space, const SteadyOptions& options,
+               std::function<bool()> should_stop, std::function<void(const SteadyProgress&)> progress)
+      : sim_(sim), space_(space), options_(options), should_stop_(std::move(should_stop)),
+        progress_(std::move(progress)) {}
+
+  SteadyReport solve() {
+    SteadyReport report;
+    const auto start = Clock::now();
+    System system(sim_, space_);
+    const auto& ops = system.vectors();
+    const int nv = system.owned() * Dim, nq = system.owned(), n = nv + nq + 1;
+    fluid_count_ = static_cast<double>(system.fluid_particles());
+    setup_preconditioner(system);
+    const double reference = rest_residual(system);
+    report.setup_seconds = seconds_since(start);
+
+    View rhs("steady_rhs", n), step("steady_step", n);
+    auto part = [&](const View& full, int from, int to) { return View(Kokkos::subview(full, std::make_pair(from, to))); };
+    double residual = relative_residual(system, reference), previous_residual = residual;
+    SteadyProgress status;
+    status.residual = residual;
+    while (residual > options_.tolerance && report.nonlinear_iterations < options_.max_nonlinear_iterations &&
+           std::isfinite(residual)) {
+      // rhs = -F (the border row: 0)
+      ops.fill(rhs, 0.0);
+      ops.update(-1.0, system.residual_v(), 0.0, part(rhs, 0, nv));
+      ops.update(-1.0, system.residual_q(), 0.0, part(rhs, nv, nv + nq));
+      ops.fill(step, 0.0);
+      KrylovOptions krylov;
+      // How far to solve the step (Eisenstat & Walker 1996, choice 2): no
+      // further than takes the residual to a tenth of the tolerance were the
+      // equations linear, nor than the last step's nonlinear reduction
+      // squared says Newton can use; the first step to 1e-3, since Newton's
+      // first step from rest misses what the Jacobian at rest lacks
+      // (convection) by more than that.
+      const double reduction = report.nonlinear_iterations == 0 ? 1e-3 : 0.9 * std::pow(residual / previous_residual, 2);
+      krylov.tolerance = std::min(
+          0.1, std::max({options_.linear_tolerance, 0.1 * options_.tolerance / residual, reduction}));
+      krylov.max_iterations = options_.max_linear_iterations;
+      krylov.restart = options_.restart;
+      krylov.after_iteration = [&](int iterations, double linear_residual) {
+        status.linear_iterations = report.linear_iterations + iterations;
+        status.linear_residual = linear_residual;
+        if (progress_) progress_(status);
+        return should_stop_ && should_stop_();
+      };
+      const auto result = fgmres(
+          ops, [&](const View& in, const View& out) { apply_bordered(system, in, out); },
+          [&](const View& in, const View& out) { precondition(system, in, out); }, rhs, step, krylov);
+      report.linear_iterations += result.iterations;
+      if (result.abandoned) {
+        report.interrupted = true;
+        break;
+      }
+      system.move_state(part(step, 0, nv), part(step, nv, nv + nq));
+      ++report.nonlinear_iterations;
+      const double previous = residual;
+      previous_residual = residual;
+      residual = relative_residual(system, reference);
+      status.nonlinear_iterations = report.nonlinear_iterations;
+      status.residual = residual;
+      status.linear_residual = 0;
+      if (progress_) progress_(status);
+      // Newton that makes things worse by orders of magnitude will not recover.
+      if (!(residual < 1e3 * previous)) break;
+    }
+    // The rates in the simulation are of the state it is left in (a checkpoint keeps them).
+    if (report.interrupted) system.take_state();
+    report.residual = residual;
+    report.converged = residual <= options_.tolerance && !report.interrupted;
+    report.inner_iterations = inner_iterations_;
+    report.rate_evaluations = system.rate_evaluations();
+    report.solve_seconds = seconds_since(start) - report.setup_seconds;
+    // Outer Krylov basis (2 restart + 2 bordered vectors), the step and right-hand
+    // side, the inner bases, the system's and the preconditioner's own fields.
+    const double outer = (2.0 * options_.restart + 4) * n;
+    const int inner_restart = std::min(options_.restart, options_.max_inner_iterations);
+    const double inner = (2.0 * inner_restart + 2) * (nv + nq) + 4.0 * (nv + nq);
+    const double fields = 7.0 * (nv + nq) + 2.0 * nv;
+    const double bytes = sim_.communicator().sum(8.0 * (outer + inner + fields));
+    const double particles = static_cast<double>(sim_.fluid_particles() + sim_.boundary_particles());
+    report.bytes_per_particle = bytes / particles;
+    return report;
+  }
+
+ private:
+  static double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+  // e . x over the fluid's density rows (e = fluid / sqrt(n)).
+  double border_dot(const System& system, const View& q) const {
+    const auto fluid = system.fluid_mask();
+    double local = 0;
+    static const std::string label = "poresph::steady::border_dot";
+    Kokkos::parallel_reduce(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, q.extent(0)),
+        KOKKOS_LAMBDA(int i, double& sum) { sum += fluid(i) * q(i); }, local);
+    return sim_.communicator().sum(local) / std::sqrt(fluid_count_);
+  }
+  // q += alpha e
+  void add_border(const System& system, double alpha, const View& q) const {
+    const auto fluid = system.fluid_mask();
+    const double value = alpha / std::sqrt(fluid_count_);
+    static const std::string label = "poresph::steady::add_border";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, q.extent(0)), KOKKOS_LAMBDA(int i) { q(i) += value * fluid(i); });
+    space_.fence();
+  }
+  // The border unknown lambda, held by process 0 in the last row.
+  double read_border(const View& full) const {
+    double value = 0;
+    Kokkos::deep_copy(value, Kokkos::subview(full, full.extent(0) - 1));
+    return sim_.communicator().sum(value);
+  }
+  void write_border(const View& full, double value) const {
+    Kokkos::deep_copy(Kokkos::subview(full, full.extent(0) - 1), sim_.communicator().rank() == 0 ? value : 0.0);
+  }
+
+  // ||F - e (e . F)|| over the same at rest (v = 0, rho = rho0): the drift removed.
+  double relative_residual(const System& system, double reference) const {
+    const auto& ops = system.vectors();
+    const double drift = border_dot(system, system.residual_q());
+    const double squared = ops.dot(system.residual_v(), system.residual_v()) +
+                           ops.dot(system.residual_q(), system.residual_q()) - drift * drift;
+    return std::sqrt(std::max(squared, 0.0)) / reference;
+  }
+
+  // The residual's size at rest, what "relative" is relative to: the same
+  // for a cold start, a warm start and a restart.
+  double rest_residual(System& system) {
+    const auto& ops = system.vectors();
+    const int nv = system.owned() * Dim, nq = system.owned();
+    View dv("steady_to_rest_v", nv), dq("steady_to_rest_q", nq);
+    ops.update(-1.0, velocity_of(system), 0.0, dv);
+    const double rest_q = sim_.derived().sound_speed;  // (c / rho0) rho0
+    const auto base_q = density_of(system);
+    const auto fluid = system.fluid_mask();
+    static const std::string label = "poresph::steady::to_rest";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, nq),
+        KOKKOS_LAMBDA(int i) { dq(i) = fluid(i) * (rest_q - base_q(i)); });
+    space_.fence();
+    system.move_state(dv, dq);
+    const double drift = border_dot(system, system.residual_q());
+    const double squared = ops.dot(system.residual_v(), system.residual_v()) +
+                           ops.dot(system.residual_q(), system.residual_q()) - drift * drift;
+    ops.update(-1.0, dv, 0.0, dv);
+    ops.update(-1.0, dq, 0.0, dq);
+    system.move_state(dv, dq);
+    const double norm = std::sqrt(std::max(squared, 0.0));
+    return norm > 0 ? norm : 1.0;
+  }
+  View velocity_of(System& system) const {
+    const auto P = sim_.particles();
+    View v("steady_velocity", system.owned() * Dim);
+    static const std::string label = "poresph::steady::velocity_of";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, system.owned()), KOKKOS_LAMBDA(int i) {
+          for (int d = 0; d < Dim; ++d) v(i * Dim + d) = P.v(i, d);
+        });
+    space_.fence();
+    return v;
+  }
+  View density_of(System& system) const {
+    const auto P = sim_.particles();
+    const double to_q = sim_.derived().sound_speed / sim_.scene().density;
+    View q("steady_density", system.owned());
+    static const std::string label = "poresph::steady::density_of";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, system.owned()),
+        KOKKOS_LAMBDA(int i) { q(i) = to_q * P.rho(i); });
+    space_.fence();
+    return q;
+  }
+
+  // out = [[J, e], [e^T, 0]] in
+  void apply_bordered(System& system, const View& in, const View& out) {
+    const int nv = system.owned() * Dim, nq = system.owned();
+    const View in_v(Kokkos::subview(in, std::make_pair(0, nv))), in_q(Kokkos::subview(in, std::make_pair(nv, nv + nq)));
+    const View out_v(Kokkos::subview(out, std::make_pair(0, nv))),
+        out_q(Kokkos::subview(out, std::make_pair(nv, nv + nq)));
+    system.apply(&in_v, &in_q, out_v, out_q);
+    add_border(system, read_border(in), out_q);
+    write_border(out, border_dot(system, in_q));
+  }
+
+  void setup_preconditioner(System& system) {
+    const int nv = system.owned() * Dim, nq = system.owned();
+    diagonal_inverse_ = system.velocity_diagonal();
+    const auto inverse = diagonal_inverse_;
+    static const std::string label = "poresph::steady::invert_diagonal";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, nv),
+        KOKKOS_LAMBDA(int i) { inverse(i) = inverse(i) != 0 ? 1.0 / inverse(i) : 0.0; });
+    space_.fence();
+    work_v_ = View("steady_work_v", nv), work_v2_ = View("steady_work_v2", nv), work_v3_ = View("steady_work_v3", nv);
+    work_q_ = View("steady_work_q", nq), work_q2_ = View("steady_work_q2", nq), work_q3_ = View("steady_work_q3", nq);
+    work_q_component_in_ = View("steady_component_in", nq), work_q_component_out_ = View("steady_component_out", nq);
+    // The size of DG (a few power iterations from a smooth start), for the
+    // shift that makes it invertible (below).
+    const auto& ops = system.vectors();
+    View x("steady_power", nq), y("steady_power_y", nq);
+    const auto Px = sim_.particles().x;
+    const auto fluid = system.fluid_mask();
+    const double length = sim_.scene().cell_size[0];
+    static const std::string label_start = "poresph::steady::power_start";
+    Kokkos::parallel_for(
+        label_start, Kokkos::RangePolicy<ExecSpace>(space_, 0, nq),
+        KOKKOS_LAMBDA(int i) { x(i) = fluid(i) * (1.0 + math::cos(6.283185307179586 * 3 * Px(i, 0) / length)); });
+    space_.fence();
+    double estimate = 0;
+    for (int k = 0; k < 8; ++k) {
+      const double norm = ops.norm(x);
+      if (!(norm > 0)) break;
+      ops.update(0.0, x, 1.0 / norm, x);
+      apply_dg(system, x, y);
+      estimate = ops.dot(x, y);
+      ops.copy(y, x);
+    }
+    // DG has the constant as its right null vector and a left one that is not
+    // constant, so DG p = r has a solution only for r in its range. With a
+    // shift far below its smallest nonzero eigenvalue, (DG + s I) p = r always
+    // has one, whose constant part (the large s^-1 component) is then removed:
+    // what is left solves DG p = r with r projected onto the range.
+    dg_shift_ = 1e-10 * estimate;
+
+    // The lattice Laplacians that precondition the inner solves, each scaled
+    // to its operator on a smooth mode s: c = s . L^-1 (K s) / s . s.
+    std::array<int, Dim> lattice;
+    const double dx = sim_.scene().particle_spacing;
+    for (int d = 0; d < Dim; ++d) lattice[d] = static_cast<int>(std::lround(sim_.scene().cell_size[d] / dx));
+    wide_ = LatticePreconditioner<Dim, ExecSpace>(space_, sim_.communicator(), Px, fluid, nq, lattice, dx, 2);
+    compact_ = LatticePreconditioner<Dim, ExecSpace>(space_, sim_.communicator(), Px, fluid, nq, lattice, dx, 1);
+    Kokkos::parallel_for(
+        label_start, Kokkos::RangePolicy<ExecSpace>(space_, 0, nq),
+        KOKKOS_LAMBDA(int i) { x(i) = fluid(i) * math::cos(6.283185307179586 * Px(i, 0) / length); });
+    space_.fence();
+    const double smooth = ops.dot(x, x);
+    if (wide_.available() && smooth > 0) {
+      apply_dg(system, x, y);
+      wide_.apply(y, work_q_);
+      wide_scale_ = ops.dot(x, work_q_) / smooth;
+    }
+    if (compact_.available() && smooth > 0) {
+      // The velocity block on the smooth mode in x (component 0).
+      View sv("steady_smooth_v", nv);
+      to_component(x, sv, 0);
+      system.apply(&sv, nullptr, work_v_, work_q3_, kForward);
+      from_component(work_v_, y, 0);
+      compact_.apply(y, work_q_);
+      compact_scale_ = ops.dot(x, work_q_) / smooth;
+    }
+  }
+
+  // Component d of a velocity vector (i * Dim + d) as a scalar one, and back.
+  void from_component(const View& v, const View& s, int d) const {
+    static const std::string label = "poresph::steady::from_component";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, s.extent(0)), KOKKOS_LAMBDA(int i) { s(i) = v(i * Dim + d); });
+    space_.fence();
+  }
+  void to_component(const View& s, const View& v, int d) const {
+    static const std::string label = "poresph::steady::to_component";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, s.extent(0)), KOKKOS_LAMBDA(int i) { v(i * Dim + d) = s(i); });
+    space_.fence();
+  }
+
+  // The inner solves' preconditioners: the wide lattice Laplacian for DG,
+  // the compact one per component for the velocity block (Jacobi where the
+  // lattice has an odd side and no wide Laplacian).
+  void precondition_dg(const View& in, const View& out) const {
+    if (!wide_.available() || wide_scale_ == 0) {
+      Kokkos::deep_copy(space_, out, in);
+      space_.fence();
+      return;
+    }
+    wide_.apply(in, out);
+    const double scale = 1.0 / wide_scale_;
+    static const std::string label = "poresph::steady::scale";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, out.extent(0)), KOKKOS_LAMBDA(int i) { out(i) *= scale; });
+    space_.fence();
+  }
+  void precondition_velocity(const View& in, const View& out) const {
+    if (!compact_.available() || compact_scale_ == 0) {
+      Kokkos::deep_copy(space_, out, in);
+      space_.fence();
+      multiply(diagonal_inverse_, out);
+      return;
+    }
+    const double scale = 1.0 / compact_scale_;
+    for (int d = 0; d < Dim; ++d) {
+      from_component(in, work_q_component_in_, d);
+      compact_.apply(work_q_component_in_, work_q_component_out_);
+      to_component(work_q_component_out_, out, d);
+    }
+    static const std::string label = "poresph::steady::scale";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, out.extent(0)), KOKKOS_LAMBDA(int i) { out(i) *= scale; });
+    space_.fence();
+  }
+
+  // out = D Q^-1 G q
+  void apply_dg(System& system, const View& q, const View& out) {
+    system.apply(nullptr, &q, work_v_, work_q3_, kForward);
+    multiply(diagonal_inverse_, work_v_);
+    system.apply(&work_v_, nullptr, work_v2_, out, kForward);
+  }
+  // out = D Q^-1 A Q^-1 G q
+  void apply_dag(System& system, const View& q, const View& out) {
+    system.apply(nullptr, &q, work_v_, work_q3_, kForward);
+    multiply(diagonal_inverse_, work_v_);
+    system.apply(&work_v_, nullptr, work_v2_, work_q3_, kForward);
+    multiply(diagonal_inverse_, work_v2_);
+    system.apply(&work_v2_, nullptr, work_v_, out, kForward);
+  }
+  void multiply(const View& factor, const View& x) const {
+    static const std::string label = "poresph::steady::multiply";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, x.extent(0)), KOKKOS_LAMBDA(int i) { x(i) *= factor(i); });
+    space_.fence();
+  }
+
+  // p ~ (DG)^-1 r: GMRES on DG + s I to the inner tolerance, the fluid mean removed.
+  void solve_dg(System& system, const View& r, const View& p) {
+    const auto& ops = system.vectors();
+    KrylovOptions krylov;
+    krylov.tolerance = options_.inner_tolerance;
+    krylov.max_iterations = options_.max_inner_iterations;
+    krylov.restart = std::min(options_.restart, options_.max_inner_iterations);
+    ops.fill(p, 0.0);
+    const double shift = dg_shift_;
+    const auto result = fgmres(
+        ops,
+        [&](const View& in, const View& out) {
+          apply_dg(system, in, out);
+          ops.update(shift, in, 1.0, out);
+        },
+        [&](const View& in, const View& out) { precondition_dg(in, out); }, r, p, krylov);
+    inner_iterations_ += result.iterations;
+    add_border(system, -border_dot(system, p), p);  // p - e (e . p): the fluid mean out
+  }
+
+  // v ~ A^-1 r: GMRES with Jacobi to the inner tolerance.
+  void solve_velocity(System& system, const View& r, const View& v) {
+    const auto& ops = system.vectors();
+    KrylovOptions krylov;
+    krylov.tolerance = options_.inner_tolerance;
+    krylov.max_iterations = options_.max_inner_iterations;
+    krylov.restart = std::min(options_.restart, options_.max_inner_iterations);
+    ops.fill(v, 0.0);
+    const auto result = fgmres(
+        ops, [&](const View& in, const View& out) { system.apply(&in, nullptr, out, work_q3_, kForward); },
+        [&](const View& in, const View& out) { precondition_velocity(in, out); }, r, v, krylov);
+    inner_iterations_ += result.iterations;
+  }
+
+  // out = P^-1 in, block upper-triangular with LSC (see the top of the file).
+  void precondition(System& system, const View& in, const View& out) {
+    const auto& ops = system.vectors();
+    const int nv = system.owned() * Dim, nq = system.owned();
+    const View in_v(Kokkos::subview(in, std::make_pair(0, nv))), in_q(Kokkos::subview(in, std::make_pair(nv, nv + nq)));
+    const View out_v(Kokkos::subview(out, std::make_pair(0, nv))),
+        out_q(Kokkos::subview(out, std::make_pair(nv, nv + nq)));
+    // The uniform part of the density residual is the drift's.
+    const double drift = border_dot(system, in_q);
+    ops.copy(in_q, work_q_);
+    add_border(system, -drift, work_q_);
+    // p = -(DG)^-1 (DAG) (DG)^-1 r_q
+    solve_dg(system, work_q_, work_q2_);
+    apply_dag(system, work_q2_, work_q_);
+    solve_dg(system, work_q_, out_q);
+    ops.update(0.0, out_q, -1.0, out_q);
+    // The mean density change is the border row's.
+    add_border(system, read_border(in), out_q);
+    // v = A^-1 (r_v - G p)
+    system.apply(nullptr, &out_q, work_v2_, work_q3_, kForward);
+    ops.copy(in_v, work_v3_);
+    ops.update(-1.0, work_v2_, 1.0, work_v3_);
+    solve_velocity(system, work_v3_, out_v);
+    write_border(out, drift);
+  }
+
+  typename System::Sim& sim_;
+  ExecSpace space_;
+  SteadyOptions options_;
+  std::function<bool()> should_stop_;
+  std::function<void(const SteadyProgress&)> progress_;
+  double fluid_count_ = 1;
+  double dg_shift_ = 0;
+  LatticePreconditioner<Dim, ExecSpace> wide_, compact_;
+  double wide_scale_ = 0, compact_scale_ = 0;
+  long long inner_iterations_ = 0;
+  View diagonal_inverse_, work_v_, work_v2_, work_v3_, work_q_, work_q2_, work_q3_, work_q_component_in_,
+      work_q_component_out_;
+};
+
+}  // namespace poresph

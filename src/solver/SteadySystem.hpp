@@ -1,0 +1,217 @@
+#pragma once
+// The steady fixed-particle equations as a nonlinear system F(y) = 0, with
+// the time loop's own operators (docs/steady_solver.md).
+//
+// Unknowns, per owned fluid particle: its velocity v and q = (c / rho0) rho,
+// the density in units that make the momentum and continuity rows alike
+// (d v / dt = -c grad q + ..., d q / dt = -c div v + ...). Residual rows:
+//   F_v = (dv/dt - kappa v) / (1 + kappa dt),  F_q = (c / rho0) d rho / dt,
+// kappa the wall drag kept apart from dv/dt (physics/PredictorCorrector.hpp).
+// Dividing by 1 + kappa dt changes no solution; it keeps the rows of points a
+// hair from a surface (kappa up to 1e6 / dt) from swamping every norm.
+// Boundary particles and the rows of other kinds are zero: the boundary's
+// velocity and pressure follow from the fluid inside the rate evaluation.
+//
+// Jacobian products are central differences of the rates,
+// (F(y + d w) - F(y - d w)) / 2d: exact for the quadratic convective term,
+// and second order in d for the pressure term's p / rho^2, so the steady
+// state solved for is the time loop's.
+#include <Kokkos_Core.hpp>
+
+#include <cmath>
+#include <utility>
+
+#include "app/Simulation.hpp"
+#include "solver/Fgmres.hpp"
+
+namespace poresph {
+
+template <int Dim, class ExecSpace>
+class SteadySystem {
+ public:
+  using Sim = Simulation<Dim, ExecSpace>;
+  using MemorySpace = typename ExecSpace::memory_space;
+  using View = Kokkos::View<double*, MemorySpace>;
+
+  SteadySystem(Sim& sim, const ExecSpace& space)
+      : sim_(sim), space_(space), ops_{space, sim.communicator()}, owned_(sim.particles().owned) {
+    const auto& derived = sim.derived();
+    const double rho0 = sim.scene().density;
+    to_q_ = derived.sound_speed / rho0;
+    drag_time_ = sim.time_step();
+    velocity_scale_ = derived.velocity_scale > 0 ? derived.velocity_scale : 1.0;
+    base_v_ = View("steady_base_v", owned_ * Dim);
+    base_q_ = View("steady_base_q", owned_);
+    residual_v_ = View("steady_residual_v", owned_ * Dim);
+    residual_q_ = View("steady_residual_q", owned_);
+    scratch_v_ = View("steady_scratch_v", owned_ * Dim);
+    scratch_q_ = View("steady_scratch_q", owned_);
+    fluid_ = View("steady_fluid", owned_);
+    const auto kind = sim.particles().kind;
+    const auto fluid = fluid_;
+    static const std::string label = "poresph::steady::fluid_mask";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_),
+        KOKKOS_LAMBDA(int i) { fluid(i) = kind(i) == kFluid ? 1.0 : 0.0; });
+    space_.fence();
+    take_state();
+  }
+
+  int owned() const { return owned_; }
+  long long fluid_particles() const { return sim_.fluid_particles(); }
+  const KrylovVectors<ExecSpace>& vectors() const { return ops_; }
+  // 1 on owned fluid particles, 0 on the others.
+  const View& fluid_mask() const { return fluid_; }
+  // The residual at the current state, velocity rows (i * Dim + d) and density rows.
+  const View& residual_v() const { return residual_v_; }
+  const View& residual_q() const { return residual_q_; }
+  long long rate_evaluations() const { return evaluations_; }
+
+  // The simulation's current state becomes the one products are taken at.
+  void take_state() {
+    const auto P = sim_.particles();
+    const auto bv = base_v_, bq = base_q_;
+    const double to_q = to_q_;
+    static const std::string label = "poresph::steady::take_state";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
+          for (int d = 0; d < Dim; ++d) bv(i * Dim + d) = P.v(i, d);
+          bq(i) = to_q * P.rho(i);
+        });
+    space_.fence();
+    evaluate(residual_v_, residual_q_);
+  }
+
+  // y += (dv, dq) on fluid particles, into the simulation; the residual there.
+  void move_state(const View& dv, const View& dq) {
+    set_state(1.0, &dv, &dq);
+    take_state();
+  }
+
+  // (out_v, out_q) = J (wv, wq) at the current state; a null wv or wq is
+  // zero. Central differences; Accuracy::Forward takes one rate evaluation
+  // instead of two, F(y + d w) - F(y), first order in d: enough for a
+  // preconditioner, whose products need only be near J's.
+  enum class Accuracy { Central, Forward };
+  void apply(const View* wv, const View* wq, const View& out_v, const View& out_q,
+             Accuracy accuracy = Accuracy::Central) {
+    const double size = std::sqrt((wv ? ops_.dot(*wv, *wv) : 0.0) + (wq ? ops_.dot(*wq, *wq) : 0.0));
+    if (!(size > 0)) {
+      ops_.fill(out_v, 0.0);
+      ops_.fill(out_q, 0.0);
+      return;
+    }
+    // A perturbation of 1 % of the velocity scale per unknown, on average.
+    const double n = static_cast<double>(sim_.fluid_particles()) * (Dim + 1);
+    const double step = 1e-4 * velocity_scale_ * std::sqrt(n) / size;
+    set_state(step, wv, wq);
+    evaluate(out_v, out_q);
+    if (accuracy == Accuracy::Forward) {
+      ops_.update(-1.0 / step, residual_v_, 1.0 / step, out_v);
+      ops_.update(-1.0 / step, residual_q_, 1.0 / step, out_q);
+    } else {
+      set_state(-step, wv, wq);
+      evaluate(scratch_v_, scratch_q_);
+      ops_.update(-0.5 / step, scratch_v_, 0.5 / step, out_v);
+      ops_.update(-0.5 / step, scratch_q_, 0.5 / step, out_q);
+    }
+    set_state(0.0, nullptr, nullptr);  // back to the state, for whatever reads the simulation next
+  }
+
+  // The diagonal of the velocity block dF_v/dv, by probing: particles whose
+  // lattice indices agree modulo M along every axis (M spacings beyond the
+  // reach of the pair terms) are perturbed together, one colour and one
+  // component at a time: Dim M^Dim products.
+  View velocity_diagonal() {
+    const double dx = sim_.scene().particle_spacing;
+    const double cutoff = 3.0 * sim_.derived().smoothing_length;
+    int modulus[Dim];
+    long long colours = 1;
+    for (int d = 0; d < Dim; ++d) {
+      const int points = static_cast<int>(std::lround(sim_.scene().cell_size[d] / dx));
+      const int least = static_cast<int>(std::floor(cutoff / dx + 1e-9)) + 1;
+      modulus[d] = points;  // no divisor that large: every point its own colour along this axis
+      for (int m = least; m <= points; ++m)
+        if (points % m == 0) {
+          modulus[d] = m;
+          break;
+        }
+      colours *= modulus[d];
+    }
+    View diagonal("steady_velocity_diagonal", owned_ * Dim);
+    View probe("steady_probe", owned_ * Dim), response("steady_response", owned_ * Dim);
+    View response_q("steady_response_q", owned_);
+    const auto x = sim_.particles().x;
+    const auto fluid = fluid_;
+    for (long long colour = 0; colour < colours; ++colour) {
+      for (int component = 0; component < Dim; ++component) {
+        static const std::string label_probe = "poresph::steady::diagonal_probe";
+        Kokkos::parallel_for(
+            label_probe, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
+              long long c = 0;
+              for (int d = Dim - 1; d >= 0; --d) {
+                const long long index = static_cast<long long>(x(i, d) / dx);
+                c = c * modulus[d] + index % modulus[d];
+              }
+              for (int d = 0; d < Dim; ++d) probe(i * Dim + d) = (c == colour && d == component) ? fluid(i) : 0.0;
+            });
+        space_.fence();
+        apply(&probe, nullptr, response, response_q);
+        static const std::string label_take = "poresph::steady::diagonal_take";
+        Kokkos::parallel_for(
+            label_take, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
+              if (probe(i * Dim + component) != 0) diagonal(i * Dim + component) = response(i * Dim + component);
+            });
+        space_.fence();
+      }
+    }
+    return diagonal;
+  }
+
+ private:
+  // The simulation's fluid state to y + step (wv, wq).
+  void set_state(double step, const View* dv, const View* dq) {
+    const auto P = sim_.particles();
+    const auto bv = base_v_, bq = base_q_, fluid = fluid_;
+    const bool has_v = dv != nullptr, has_q = dq != nullptr;
+    const View wv = has_v ? *dv : View(), wq = has_q ? *dq : View();
+    const double from_q = 1.0 / to_q_;
+    static const std::string label = "poresph::steady::set_state";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
+          if (fluid(i) == 0) return;
+          for (int d = 0; d < Dim; ++d) P.v(i, d) = bv(i * Dim + d) + (has_v ? step * wv(i * Dim + d) : 0.0);
+          P.rho(i) = (bq(i) + (has_q ? step * wq(i) : 0.0)) * from_q;
+        });
+    space_.fence();
+  }
+
+  // F at the simulation's state.
+  void evaluate(const View& out_v, const View& out_q) {
+    sim_.compute_rates();
+    ++evaluations_;
+    const auto P = sim_.particles();
+    const auto fluid = fluid_;
+    const bool drag = P.has_surfaces;
+    const double to_q = to_q_, dt = drag_time_;
+    static const std::string label = "poresph::steady::residual";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
+          const double kappa = drag ? P.wall_drag(i) : 0.0;
+          const double weight = fluid(i) / (1.0 + kappa * dt);
+          for (int d = 0; d < Dim; ++d) out_v(i * Dim + d) = weight * (P.dvdt(i, d) - kappa * P.v(i, d));
+          out_q(i) = fluid(i) * to_q * P.drhodt(i);
+        });
+    space_.fence();
+  }
+
+  Sim& sim_;
+  ExecSpace space_;
+  KrylovVectors<ExecSpace> ops_;
+  int owned_;
+  double to_q_ = 1, drag_time_ = 0, velocity_scale_ = 1;
+  long long evaluations_ = 0;
+  View base_v_, base_q_, residual_v_, residual_q_, scratch_v_, scratch_q_, fluid_;
+};
+
+}  // namespace poresph

@@ -1,0 +1,112 @@
+#!/usr/bin/python3
+"""Solver/Method = steady from the command line (docs/steady_solver.md):
+
+- the square array c = 0.2 at dx = 0.04 L: k within 0.1 % of the march's
+  (Permeability/Steady Tolerance 1e-5), with and without convection;
+- 1, 2 and 4 processes agree on k to 1e-5 (the solver's tolerance, not
+  bits: the sums go in another order);
+- a solve held to 2 linear iterations does not converge: exit status 4, a
+  warning, "converged": false, "steady": false, stopped_by not_converged,
+  and a checkpoint from which --restart then converges to the same k;
+- the ladder, the tensor and the linearity check run with it;
+- moving particles are refused (exit 2, nothing written).
+
+    check_steady_solver.py PORESPH_BINARY INPUT_DIR WORK_DIR
+"""
+import json
+import os
+import subprocess
+import sys
+
+poresph, inputs, work = sys.argv[1:4]
+scene = os.path.join(inputs, "square_array", "square_array_c20.xml")
+env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1", OMP_NUM_THREADS="1")
+failures = 0
+
+
+def check(ok, what):
+    global failures
+    failures += not ok
+    print(f"{'ok' if ok else 'FAILED'}: {what}")
+
+
+def run(name, settings, ranks=1, restart=None):
+    out = os.path.join(work, name)
+    command = (["mpiexec", "-n", str(ranks)] if ranks > 1 else []) + [poresph, scene]
+    for setting in ["Discretization/Particle Spacing=0.004", "Run/Progress=never"] + settings:
+        command += ["--set", setting]
+    command += ["--output", out, "--overwrite"]
+    if restart:
+        command += ["--restart", restart]
+    done = subprocess.run(command, env=env, capture_output=True, text=True)
+    summary = None
+    if os.path.exists(os.path.join(out, "summary.json")):
+        with open(os.path.join(out, "summary.json")) as f:
+            summary = json.load(f)
+    return done, summary, out
+
+
+def kxx(summary):
+    return summary["permeability"]["kxx"]
+
+
+# The same answer as the march.
+for convection in ("true", "false"):
+    _, marched, _ = run(f"steady-march-{convection}", [f"Fluid/Convection={convection}",
+                                                        "Permeability/Steady Tolerance=1e-5",
+                                                        "Run/End Time=100000"])
+    done, solved, _ = run(f"steady-solve-{convection}", [f"Fluid/Convection={convection}", "Solver/Method=steady"])
+    solver = solved["solver"]
+    check(done.returncode == 0 and solver["converged"] and solved["steady"] and solved["stopped_by"] == "steady_state",
+          f"convection {convection}: converged in {solver['nonlinear_iterations']} Newton and "
+          f"{solver['linear_iterations']} linear iterations, residual {solver['residual']:.2e}")
+    keys = {"method", "converged", "nonlinear_iterations", "linear_iterations", "residual", "setup_seconds",
+            "solve_seconds", "bytes_per_particle"}
+    check(keys <= set(solver) and solver["method"] == "steady" and solver["residual"] <= 1e-6
+          and solver["bytes_per_particle"] > 0, f"solver keys {sorted(keys)}")
+    change = kxx(solved) / kxx(marched) - 1
+    check(abs(change) < 1e-3 and marched["steady"],
+          f"convection {convection}: k solved {kxx(solved):.8e}, marched {kxx(marched):.8e} ({change:+.1e})")
+    check(marched["solver"] == {"method": "explicit"}, "the march says it marched")
+
+# Ranks agree to the tolerance.
+_, one, _ = run("steady-ranks-1", ["Solver/Method=steady"])
+for ranks in (2, 4):
+    done, many, _ = run(f"steady-ranks-{ranks}", ["Solver/Method=steady"], ranks)
+    change = kxx(many) / kxx(one) - 1
+    check(done.returncode == 0 and many["solver"]["converged"] and abs(change) < 1e-5,
+          f"{ranks} ranks: k {kxx(many):.10e} against {kxx(one):.10e} ({change:+.1e})")
+
+# A solve that cannot converge says so, and leaves its state for a restart.
+done, capped, out = run("steady-capped", ["Solver/Method=steady", "Solver/Max Linear Iterations=2",
+                                          "Solver/Max Nonlinear Iterations=1"])
+check(done.returncode == 4, f"capped solve: exit status {done.returncode} (4 expected)")
+check("did not converge" in done.stderr and any("did not converge" in w for w in capped["warnings"]),
+      "capped solve: warning on stderr and in summary.json")
+check(capped["solver"]["converged"] is False and capped["steady"] is False
+      and capped["stopped_by"] == "not_converged" and capped["solver"]["linear_iterations"] == 2,
+      f"capped solve: converged false, steady false, stopped_by {capped['stopped_by']}")
+checkpoint = os.path.join(out, "checkpoint.h5")
+check(os.path.exists(checkpoint), "capped solve: checkpoint.h5 written")
+done, resumed, _ = run("steady-resumed", ["Solver/Method=steady"], restart=checkpoint)
+check(done.returncode == 0 and resumed["solver"]["converged"] and abs(kxx(resumed) / kxx(one) - 1) < 1e-5,
+      f"restart of the capped solve: converged, k {kxx(resumed):.10e}")
+
+# The ladder, the tensor, the linearity check.
+done, ladder, _ = run("steady-ladder", ["Solver/Method=steady", "Convergence/Levels=2", "Permeability/Tensor=true",
+                                        "Permeability/Linearity Check=true"])
+check(done.returncode == 0 and ladder["solver"]["converged"] and len(ladder["convergence"]) == 2
+      and "kyy" in ladder["permeability"] and "darcy_linearity" in ladder
+      and abs(ladder["permeability"]["kxx"] / ladder["permeability"]["kyy"] - 1) < 1e-6
+      and abs(ladder["darcy_linearity"]["kxx"]) < 1e-2,
+      f"ladder, tensor, linearity: kxx {ladder['permeability']['kxx']:.8e}, kyy {ladder['permeability']['kyy']:.8e}, "
+      f"darcy_linearity {ladder['darcy_linearity']['kxx']:+.1e}")
+
+# Moving particles have no steady state to solve for.
+done, refused, out = run("steady-lagrangian", ["Solver/Method=steady", "Discretization/Particle Motion=lagrangian"])
+check(done.returncode == 2 and "Solver/Method = steady" in done.stderr and not os.path.exists(out),
+      "lagrangian particles refused, nothing written")
+
+print("steady solver ok" if failures == 0 else f"{failures} checks failed")
+sys.exit(1 if failures else 0)

@@ -1,0 +1,232 @@
+// The steady solver (solver/): its Jacobian products, the diagonal it
+// probes, its Krylov method, and the steady state it finds against the
+// time loop's.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "Scenes.hpp"
+#include "TestSpaces.hpp"
+#include "app/Simulation.hpp"
+#include "geometry/Grains.hpp"
+#include "solver/Fgmres.hpp"
+#include "solver/LatticeMultigrid.hpp"
+#include "solver/SteadySolver.hpp"
+#include "solver/SteadySystem.hpp"
+
+namespace poresph {
+namespace {
+
+template <class Space>
+class SteadySolverTest : public ::testing::Test {};
+TYPED_TEST_SUITE(SteadySolverTest, testing::ExecutionSpaces);
+
+// A periodic cell of 20 x 20 fixed particles around one disc, driven along x.
+SceneConfig disc_cell(bool convection) {
+  SceneConfig s = testing::periodic_box(2, 20);
+  s.grains = grains_from_list({0.5, 0.5, 0.25}, 2);
+  s.body_force = {1e-3, 0, 0};
+  s.kinematic_viscosity = 0.01;
+  s.sound_speed = 0;
+  s.particle_motion = ParticleMotion::Fixed;
+  s.convection = convection;
+  return s;
+}
+
+template <class Space>
+using View = typename SteadySystem<2, Space>::View;
+
+template <class Space>
+View<Space> random_vector(int n, unsigned seed, const View<Space>& mask, int per) {
+  View<Space> w("w", n);
+  auto h = Kokkos::create_mirror_view(w);
+  auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), mask);
+  std::srand(seed);
+  for (int i = 0; i < n; ++i) h(i) = m(i / per) * (std::rand() / double(RAND_MAX) - 0.5);
+  Kokkos::deep_copy(w, h);
+  return w;
+}
+
+template <class Space>
+double difference(const View<Space>& a, const View<Space>& b) {
+  auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
+  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+  double diff = 0, size = 0;
+  for (size_t i = 0; i < ha.extent(0); ++i) diff = std::max(diff, std::abs(ha(i) - hb(i))), size = std::max(size, std::abs(hb(i)));
+  return size > 0 ? diff / size : diff;
+}
+
+// J (a + b) = J a + J b and J (3 a) = 3 J a: the products are of a linear
+// operator, with and without convection (central differences are exact for
+// its quadratic term).
+TYPED_TEST(SteadySolverTest, ProductsAreLinear) {
+  using Space = TypeParam;
+  for (bool convection : {false, true}) {
+    Simulation<2, Space> sim(disc_cell(convection));
+    SteadySystem<2, Space> system(sim, Space());
+    const int n = system.owned();
+    const auto a_v = random_vector<Space>(2 * n, 1, system.fluid_mask(), 2);
+    const auto a_q = random_vector<Space>(n, 2, system.fluid_mask(), 1);
+    const auto b_v = random_vector<Space>(2 * n, 3, system.fluid_mask(), 2);
+    const auto b_q = random_vector<Space>(n, 4, system.fluid_mask(), 1);
+    View<Space> ja_v("ja_v", 2 * n), ja_q("ja_q", n), jb_v("jb_v", 2 * n), jb_q("jb_q", n), js_v("js_v", 2 * n),
+        js_q("js_q", n);
+    system.apply(&a_v, &a_q, ja_v, ja_q);
+    system.apply(&b_v, &b_q, jb_v, jb_q);
+    const auto& ops = system.vectors();
+    View<Space> s_v("s_v", 2 * n), s_q("s_q", n);
+    ops.copy(a_v, s_v), ops.copy(a_q, s_q);
+    ops.update(1.0, b_v, 1.0, s_v), ops.update(1.0, b_q, 1.0, s_q);
+    system.apply(&s_v, &s_q, js_v, js_q);
+    ops.update(1.0, ja_v, 1.0, jb_v), ops.update(1.0, ja_q, 1.0, jb_q);
+    EXPECT_LT(difference<Space>(js_v, jb_v), 1e-6) << "convection " << convection;
+    EXPECT_LT(difference<Space>(js_q, jb_q), 1e-6) << "convection " << convection;
+  }
+}
+
+// The probed diagonal is J's: the response of a particle's own row to its own velocity.
+TYPED_TEST(SteadySolverTest, DiagonalIsTheJacobians) {
+  using Space = TypeParam;
+  Simulation<2, Space> sim(disc_cell(true));
+  SteadySystem<2, Space> system(sim, Space());
+  const int n = system.owned();
+  const auto diagonal = system.velocity_diagonal();
+  auto mask = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), system.fluid_mask());
+  auto diag = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), diagonal);
+  int checked = 0;
+  for (int i = 0; i < n && checked < 6; i += 37) {
+    if (mask(i) == 0) continue;
+    for (int c = 0; c < 2; ++c) {
+      View<Space> e("e", 2 * n), out_v("out_v", 2 * n), out_q("out_q", n);
+      Kokkos::deep_copy(Kokkos::subview(e, i * 2 + c), 1.0);
+      system.apply(&e, nullptr, out_v, out_q);
+      double own = 0;
+      Kokkos::deep_copy(own, Kokkos::subview(out_v, i * 2 + c));
+      EXPECT_NEAR(diag(i * 2 + c), own, 1e-8 * std::abs(own)) << "particle " << i << " component " << c;
+      EXPECT_LT(own, 0) << "the rates damp a particle's own velocity";
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 6);
+}
+
+// FGMRES solves a small nonsymmetric system exactly, with restarts.
+TYPED_TEST(SteadySolverTest, FgmresSolvesASmallSystem) {
+  using Space = TypeParam;
+  using V = Kokkos::View<double*, typename Space::memory_space>;
+  KrylovVectors<Space> ops{Space(), Communicator()};
+  const int n = 40;
+  // A: tridiagonal, 3 on the diagonal, -1 below, -0.5 above.
+  auto apply = [&](const V& in, const V& out) {
+    auto i_h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), in);
+    auto o_h = Kokkos::create_mirror_view(out);
+    for (int i = 0; i < n; ++i) o_h(i) = 3 * i_h(i) - (i > 0 ? i_h(i - 1) : 0) - 0.5 * (i + 1 < n ? i_h(i + 1) : 0);
+    Kokkos::deep_copy(out, o_h);
+  };
+  V b("b", n), x("x", n), r("r", n);
+  Kokkos::deep_copy(b, 1.0);
+  KrylovOptions options;
+  options.tolerance = 1e-10;
+  options.restart = 7;
+  const auto result = fgmres(ops, apply, [&](const V& in, const V& out) { ops.copy(in, out); }, b, x, options);
+  EXPECT_TRUE(result.converged);
+  apply(x, r);
+  ops.update(-1.0, b, 1.0, r);
+  EXPECT_LT(ops.norm(r) / ops.norm(b), 1e-9);
+}
+
+// The lattice multigrid as a stationary iteration on a Dirichlet Laplacian
+// around a disc (periodic lattice): the residual falls by the same factor
+// per V-cycle at 32, 64 and 128 points a side: it does not grow.
+TYPED_TEST(SteadySolverTest, LatticeMultigridConvergesAtEverySize) {
+  using Space = TypeParam;
+  using V = Kokkos::View<double*, typename Space::memory_space>;
+  std::vector<double> rates;
+  for (int n : {32, 64, 128}) {
+    std::array<int, 2> shape{n, n};
+    std::vector<char> active(n * n);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        active[i + n * j] = std::hypot(i + 0.5 - n / 2.0, j + 0.5 - n / 2.0) > 0.3 * n;
+    LatticeMultigrid<2, Space> multigrid(Space(), shape, active);
+    V b("b", n * n), x("x", n * n), r("r", n * n), dx("dx", n * n);
+    auto hb = Kokkos::create_mirror_view(b);
+    for (int k = 0; k < n * n; ++k) hb(k) = active[k] ? std::sin(0.37 * k) : 0.0;
+    Kokkos::deep_copy(b, hb);
+    KrylovVectors<Space> ops{Space(), Communicator()};
+    const double start = ops.norm(b);
+    double norm = start;
+    for (int cycle = 0; cycle < 10; ++cycle) {
+      multigrid.apply(x, r);
+      ops.update(1.0, b, -1.0, r);
+      norm = ops.norm(r);
+      multigrid.cycle(r, dx);
+      ops.update(1.0, dx, 1.0, x);
+    }
+    const double rate = std::pow(norm / start, 1.0 / 9);
+    rates.push_back(rate);
+    EXPECT_LT(rate, 0.6) << n << " a side";  // 0.55, 0.49, 0.47 measured
+  }
+  EXPECT_LT(rates.back(), rates.front() + 0.05);
+}
+
+// The steady solve of the disc cell is the time loop's steady state: k to
+// 1e-5 of the march's (marched until k changes by less than 1e-8 over 200
+// steps), with and without convection; the solve's residual is below its
+// tolerance and the state's own rates are zero up to the density drift.
+TYPED_TEST(SteadySolverTest, SolvesToTheMarchedState) {
+  using Space = TypeParam;
+  for (bool convection : {false, true}) {
+    const SceneConfig scene = disc_cell(convection);
+    Simulation<2, Space> marched(scene);
+    double k_marched = 0, previous = -1;
+    while (std::abs(k_marched - previous) > 1e-8 * std::abs(k_marched)) {
+      previous = k_marched;
+      for (int s = 0; s < 200; ++s) marched.step();
+      k_marched = scene.kinematic_viscosity * marched.superficial_velocity()[0] / scene.body_force[0];
+    }
+    Simulation<2, Space> solved(scene);
+    SteadyOptions options;
+    options.tolerance = 1e-7;
+    SteadySolver<2, Space> solver(solved, Space(), options, nullptr, [](const SteadyProgress& p) { if (p.linear_residual == 0) std::printf("N %d L %lld r %.3e\n", p.nonlinear_iterations, p.linear_iterations, p.residual); });
+    const auto report = solver.solve();
+    EXPECT_TRUE(report.converged);
+    EXPECT_LE(report.residual, options.tolerance);
+    EXPECT_GE(report.nonlinear_iterations, 1);
+    EXPECT_GT(report.linear_iterations, 0);
+    const double k_solved = scene.kinematic_viscosity * solved.superficial_velocity()[0] / scene.body_force[0];
+    EXPECT_NEAR(k_solved / k_marched, 1.0, 1e-5) << "convection " << convection << ": solved " << k_solved
+                                                 << ", marched " << k_marched;
+  }
+}
+
+// A solve held to two linear iterations does not converge, and says so.
+TYPED_TEST(SteadySolverTest, CappedSolveIsNotConverged) {
+  using Space = TypeParam;
+  Simulation<2, Space> sim(disc_cell(true));
+  SteadyOptions options;
+  options.max_linear_iterations = 2;
+  options.max_nonlinear_iterations = 1;
+  SteadySolver<2, Space> solver(sim, Space(), options, nullptr, nullptr);
+  const auto report = solver.solve();
+  EXPECT_FALSE(report.converged);
+  EXPECT_EQ(report.linear_iterations, 2);
+  EXPECT_GT(report.residual, options.tolerance);
+  EXPECT_TRUE(std::isfinite(report.residual));
+}
+
+// A stop asked for during the solve abandons it at once, state kept.
+TYPED_TEST(SteadySolverTest, StopAbandonsTheSolve) {
+  using Space = TypeParam;
+  Simulation<2, Space> sim(disc_cell(true));
+  int asked = 0;
+  SteadySolver<2, Space> solver(sim, Space(), SteadyOptions(), [&]() { return ++asked >= 3; }, nullptr);
+  const auto report = solver.solve();
+  EXPECT_TRUE(report.interrupted);
+  EXPECT_FALSE(report.converged);
+  EXPECT_EQ(report.linear_iterations, 3);
+}
+
+}  // namespace
+}  // namespace poresph
