@@ -237,6 +237,7 @@ JsonObject RunReport::to_json() const {
           .add("setup_seconds", solver.setup_seconds)
           .add("solve_seconds", solver.solve_seconds)
           .add("bytes_per_particle", solver.bytes_per_particle)
+          .add("inner_iterations", solver.inner_iterations)
           .add("rate_evaluations", solver.rate_evaluations);
     json.add("solver", solved);
   }

@@ -80,6 +80,7 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     solver.converged = solver.converged && r.solver_converged;
     solver.nonlinear_iterations += r.nonlinear_iterations;
     solver.linear_iterations += r.linear_iterations;
+    solver.inner_iterations += r.inner_iterations;
     solver.rate_evaluations += r.rate_evaluations;
     solver.residual = std::max(solver.residual, r.solver_residual);
     solver.setup_seconds += r.solver_setup_seconds;

@@ -384,6 +384,7 @@ class StageLoop {
       r.solver_converged = solve.converged;
       r.nonlinear_iterations = solve.nonlinear_iterations;
       r.linear_iterations = solve.linear_iterations;
+      r.inner_iterations = solve.inner_iterations;
       r.rate_evaluations = solve.rate_evaluations;
       r.solver_residual = solve.residual;
       r.solver_setup_seconds = solve.setup_seconds;

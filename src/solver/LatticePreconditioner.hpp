@@ -31,17 +31,11 @@ class LatticePreconditioner {
   LatticePreconditioner() = default;
 
   // x: positions of the owned particles; fluid: 1 for a fluid particle, 0
-  // else; lattice: points per axis of the cell at spacing dx. A stride of 2
-  // needs an even number of points along every axis (available() says).
+  // else; lattice: points per axis of the cell at spacing dx; stride 1 or 2.
   template <class Positions>
   LatticePreconditioner(const ExecSpace& space, const Communicator& comm, const Positions& x, const View& fluid,
                         int owned, const std::array<int, Dim>& lattice, double dx, int stride)
-      : space_(space), comm_(comm), stride_(stride) {
-    for (int d = 0; d < Dim; ++d) available_ = available_ && lattice[d] % stride == 0;
-    if (comm_.any(!available_)) {
-      available_ = false;
-      return;
-    }
+      : space_(space), comm_(comm) {
     auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), x);
     auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fluid);
     std::vector<long long> mine;
@@ -60,22 +54,36 @@ class LatticePreconditioner {
     for (int c : counts_) total += c;
     std::vector<long long> all(total);
     comm_.all_gather(mine.data(), counts_, all.data());
-    // Sub-lattices (stride 2) or the one lattice (stride 1), and where each gathered value goes.
+    // Stride 2: along an axis of an even number of points, the points two
+    // apart make two lattices (even and odd coordinates), point c at c / 2 of
+    // its own; along an odd one, they make one ring through all of them, point
+    // c at c (n + 1) / 2 mod n, where c + 2 is the next. Stride 1: the lattice.
     std::array<int, Dim> shape;
-    for (int d = 0; d < Dim; ++d) shape[d] = lattice[d] / stride;
-    const int lattices = stride == 2 ? 1 << Dim : 1;
+    int lattices = 1;
+    std::array<bool, Dim> split{};
+    for (int d = 0; d < Dim; ++d) {
+      split[d] = stride == 2 && lattice[d] % 2 == 0;
+      shape[d] = split[d] ? lattice[d] / 2 : lattice[d];
+      if (split[d]) lattices *= 2;
+    }
     long long points = 1;
     for (int d = 0; d < Dim; ++d) points *= shape[d];
     std::vector<std::vector<char>> active(lattices, std::vector<char>(points, 0));
     sub_.resize(total), local_.resize(total);
     for (long long k = 0; k < total; ++k) {
       long long rest = all[k], local = 0, s = 1;
-      int sub = 0;
+      int sub = 0, bit = 0;
       for (int d = 0; d < Dim; ++d) {
         const long long c = rest % lattice[d];
         rest /= lattice[d];
-        if (stride == 2) sub |= static_cast<int>(c % 2) << d;
-        local += (c / stride) * s;
+        long long position = c;
+        if (split[d]) {
+          sub |= static_cast<int>(c % 2) << bit++;
+          position = c / 2;
+        } else if (stride == 2) {
+          position = c * ((lattice[d] + 1) / 2) % lattice[d];
+        }
+        local += position * s;
         s *= shape[d];
       }
       sub_[k] = sub, local_[k] = local;
@@ -91,7 +99,7 @@ class LatticePreconditioner {
     for (int r = 0; r < comm_.rank(); ++r) offset_ += counts_[r];
   }
 
-  bool available() const { return available_; }
+  bool available() const { return !multigrid_.empty(); }
   // Doubles each process holds for it, per particle of its own (for the memory report).
   double values_held() const {
     double values = static_cast<double>(gathered_.size()) * 3;
@@ -126,8 +134,6 @@ class LatticePreconditioner {
  private:
   ExecSpace space_;
   Communicator comm_;
-  int stride_ = 1;
-  bool available_ = true;
   std::vector<int> own_;           // owned fluid particles, in the order gathered
   std::vector<int> counts_;        // fluid particles per process
   long long offset_ = 0;           // this process's first in the gathered order

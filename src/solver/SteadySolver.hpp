@@ -74,6 +74,7 @@ class SteadySolver {
   using Clock = std::chrono::steady_clock;
   // The preconditioner's products: near J is enough, at one rate evaluation each.
   static constexpr auto kForward = System::Accuracy::Forward;
+  static constexpr int kBacktracks = 3;
 
   // should_stop: asked after every linear iteration (all processes agree);
   // progress: told after every linear iteration and Newton step.
@@ -89,13 +90,14 @@ class SteadySolver {
     const auto& ops = system.vectors();
     const int nv = system.owned() * Dim, nq = system.owned(), n = nv + nq + 1;
     fluid_count_ = static_cast<double>(system.fluid_particles());
+    work_residual_q_ = View("steady_residual_q_drift_free", nq);
     setup_preconditioner(system);
     const double reference = rest_residual(system);
     report.setup_seconds = seconds_since(start);
 
     View rhs("steady_rhs", n), step("steady_step", n);
     auto part = [&](const View& full, int from, int to) { return View(Kokkos::subview(full, std::make_pair(from, to))); };
-    double residual = relative_residual(system, reference), previous_residual = residual;
+    double residual = relative_residual(system, reference), previous_residual = residual, retry_tolerance = 0;
     SteadyProgress status;
     status.residual = residual;
     while (residual > options_.tolerance && report.nonlinear_iterations < options_.max_nonlinear_iterations &&
@@ -115,6 +117,8 @@ class SteadySolver {
       const double reduction = report.nonlinear_iterations == 0 ? 1e-3 : 0.9 * std::pow(residual / previous_residual, 2);
       krylov.tolerance = std::min(
           0.1, std::max({options_.linear_tolerance, 0.1 * options_.tolerance / residual, reduction}));
+      // After a step that lowered nothing: the same step solved a hundred times further.
+      if (retry_tolerance > 0) krylov.tolerance = retry_tolerance;
       krylov.max_iterations = options_.max_linear_iterations;
       krylov.restart = options_.restart;
       krylov.after_iteration = [&](int iterations, double linear_residual) {
@@ -131,17 +135,38 @@ class SteadySolver {
         report.interrupted = true;
         break;
       }
-      system.move_state(part(step, 0, nv), part(step, nv, nv + nq));
+      // The step, halved while it does not lower the residual (at most
+      // kBacktracks times): near the round-off of the differenced Jacobian a
+      // full step can add more in modes the residual hardly sees than it
+      // removes. A step that lowers nothing is undone, and the solve ends.
       ++report.nonlinear_iterations;
-      const double previous = residual;
       previous_residual = residual;
+      const View step_v = part(step, 0, nv), step_q = part(step, nv, nv + nq);
+      system.move_state(step_v, step_q);
       residual = relative_residual(system, reference);
+      for (int halving = 0; halving < kBacktracks && !(residual < previous_residual); ++halving) {
+        ops.update(0.0, step, -0.5, step);  // back by half of what was taken
+        system.move_state(step_v, step_q);
+        residual = relative_residual(system, reference);
+        ops.update(0.0, step, -1.0, step);
+      }
+      const bool stalled = !(residual < previous_residual);
+      if (stalled) {
+        ops.update(0.0, step, -1.0, step);  // undo what is left of the step
+        system.move_state(step_v, step_q);
+        residual = relative_residual(system, reference);
+      }
       status.nonlinear_iterations = report.nonlinear_iterations;
       status.residual = residual;
       status.linear_residual = 0;
       if (progress_) progress_(status);
-      // Newton that makes things worse by orders of magnitude will not recover.
-      if (!(residual < 1e3 * previous)) break;
+      // A step solved loosely can miss by more than it gains; solved to the
+      // linear tolerance and still stalled, the solve is as far as it goes.
+      retry_tolerance = 0;
+      if (stalled) {
+        if (krylov.tolerance <= options_.linear_tolerance) break;
+        retry_tolerance = std::max(options_.linear_tolerance, 1e-2 * krylov.tolerance);
+      }
     }
     // The rates in the simulation are of the state it is left in (a checkpoint keeps them).
     if (report.interrupted) system.take_state();
@@ -196,11 +221,16 @@ class SteadySolver {
 
   // ||F - e (e . F)|| over the same at rest (v = 0, rho = rho0): the drift removed.
   double relative_residual(const System& system, double reference) const {
+    return drift_free_norm(system) / reference;
+  }
+  // ||F - e (e . F)||, the drift taken out before squaring: a drift far
+  // larger than what is left would otherwise cancel it in |F|^2 - drift^2.
+  double drift_free_norm(const System& system) const {
     const auto& ops = system.vectors();
-    const double drift = border_dot(system, system.residual_q());
-    const double squared = ops.dot(system.residual_v(), system.residual_v()) +
-                           ops.dot(system.residual_q(), system.residual_q()) - drift * drift;
-    return std::sqrt(std::max(squared, 0.0)) / reference;
+    const View q = work_residual_q_;
+    ops.copy(system.residual_q(), q);
+    add_border(system, -border_dot(system, q), q);
+    return std::sqrt(ops.dot(system.residual_v(), system.residual_v()) + ops.dot(q, q));
   }
 
   // The residual's size at rest, what "relative" is relative to: the same
@@ -219,13 +249,10 @@ class SteadySolver {
         KOKKOS_LAMBDA(int i) { dq(i) = fluid(i) * (rest_q - base_q(i)); });
     space_.fence();
     system.move_state(dv, dq);
-    const double drift = border_dot(system, system.residual_q());
-    const double squared = ops.dot(system.residual_v(), system.residual_v()) +
-                           ops.dot(system.residual_q(), system.residual_q()) - drift * drift;
+    const double norm = drift_free_norm(system);
     ops.update(-1.0, dv, 0.0, dv);
     ops.update(-1.0, dq, 0.0, dq);
     system.move_state(dv, dq);
-    const double norm = std::sqrt(std::max(squared, 0.0));
     return norm > 0 ? norm : 1.0;
   }
   View velocity_of(System& system) const {
@@ -345,8 +372,8 @@ class SteadySolver {
   }
 
   // The inner solves' preconditioners: the wide lattice Laplacian for DG,
-  // the compact one per component for the velocity block (Jacobi where the
-  // lattice has an odd side and no wide Laplacian).
+  // the compact one per component for the velocity block (none and Jacobi
+  // if a scale could not be measured: no fluid on this smooth mode).
   void precondition_dg(const View& in, const View& out) const {
     if (!wide_.available() || wide_scale_ == 0) {
       Kokkos::deep_copy(space_, out, in);
@@ -471,7 +498,7 @@ class SteadySolver {
   double wide_scale_ = 0, compact_scale_ = 0;
   long long inner_iterations_ = 0;
   View diagonal_inverse_, work_v_, work_v2_, work_v3_, work_q_, work_q2_, work_q3_, work_q_component_in_,
-      work_q_component_out_;
+      work_q_component_out_, work_residual_q_;
 };
 
 }  // namespace poresph

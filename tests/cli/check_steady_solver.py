@@ -2,7 +2,7 @@
 """Solver/Method = steady from the command line (docs/steady_solver.md):
 
 - the square array c = 0.2 at dx = 0.04 L: k within 0.1 % of the march's
-  (Permeability/Steady Tolerance 1e-5), with and without convection;
+  (Permeability/Steady Tolerance 1e-4, as the issue asks), with and without convection;
 - 1, 2 and 4 processes agree on k to 1e-5 (the solver's tolerance, not
   bits: the sums go in another order);
 - a solve held to 2 linear iterations does not converge: exit status 4, a
@@ -54,7 +54,7 @@ def kxx(summary):
 # The same answer as the march.
 for convection in ("true", "false"):
     _, marched, _ = run(f"steady-march-{convection}", [f"Fluid/Convection={convection}",
-                                                        "Permeability/Steady Tolerance=1e-5",
+                                                        "Permeability/Steady Tolerance=1e-4",
                                                         "Run/End Time=100000"])
     done, solved, _ = run(f"steady-solve-{convection}", [f"Fluid/Convection={convection}", "Solver/Method=steady"])
     solver = solved["solver"]
