@@ -100,10 +100,14 @@ class LatticePreconditioner {
   }
 
   bool available() const { return !multigrid_.empty(); }
-  // Doubles each process holds for it, per particle of its own (for the memory report).
+  // What this process holds for it, in doubles (for the memory report): per
+  // gathered value the value, its sub-lattice and point; per lattice point
+  // b and z, and the multigrid's diagonal, couplings, x, b and r on every
+  // level (a 2^-Dim geometric series).
   double values_held() const {
-    double values = static_cast<double>(gathered_.size()) * 3;
-    for (const auto& b : b_) values += 6.0 * b.extent(0);  // b, z, and the finest level's own four
+    double values = 2.5 * static_cast<double>(gathered_.size());
+    const double levels = (1 << Dim) / ((1 << Dim) - 1.0);
+    for (const auto& b : b_) values += (2.0 + (4.0 + Dim) * levels) * static_cast<double>(b.extent(0));
     return values;
   }
 
