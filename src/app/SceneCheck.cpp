@@ -63,7 +63,8 @@ SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   // Half of the neighbours within 3h (+ skin for moving particles), 4-byte
   // indices grown by a quarter, plus offsets; fixed particles cache each
   // entry's separation and kernel derivative besides, D + 1 doubles, and
-  // with surfaces its no-slip factor, one more.
+  // with surfaces a no-slip factor for each entry with a boundary end (at
+  // most one more per entry: the bound is kept).
   const double pairs = 0.5 * neighbour_ball(s);
   double list = (pairs * 4 + 2 * 4) * 1.25;
   if (s.particle_motion == ParticleMotion::Fixed) list += pairs * (D + 1 + (surfaces ? 1 : 0)) * 8.0;

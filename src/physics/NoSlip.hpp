@@ -93,57 +93,93 @@ KOKKOS_INLINE_FUNCTION double no_slip_factor_seen(const Particles<Dim, MemorySpa
   return no_slip_factor(s, min_fluid_distance);
 }
 
+// One end fluid, the other a boundary particle.
+KOKKOS_INLINE_FUNCTION bool fluid_boundary_pair(int kind_a, int kind_b) { return (kind_a == kFluid) != (kind_b == kFluid); }
+
 // Fixed particles: the no-slip factor of every entry of the pair list with
 // one fluid and one boundary end, computed once after the list is built (the
 // distances never change), so that the pair loop reads it for those pairs
-// instead of recomputing the surface distances at every stage. Entries of
-// two fluid or two boundary particles hold nothing and are never read. And
-// which rows of the list have a boundary particle at all: the others take
-// the loop without surfaces.
+// instead of recomputing the surface distances at every stage. Only those
+// entries have one: row a's are factors [row_first(a), row_first(a + 1)), in
+// the list's order, and the pair loop counts them as it goes
+// (fluid_boundary_pair), so
+// that a scene pays 8 bytes per fluid-boundary entry and 4 per particle, not
+// 8 per entry of the list. And which rows of the list have a boundary
+// particle at all: the others take the loop without surfaces.
 template <int Dim, class ExecSpace>
 class NoSlipFactors {
  public:
   using MemorySpace = typename ExecSpace::memory_space;
 
+  // Whether a pair of these kinds has a factor: one fluid end, one boundary end.
+  KOKKOS_INLINE_FUNCTION static bool mixed(int kind_a, int kind_b) { return fluid_boundary_pair(kind_a, kind_b); }
+
   void build(const ExecSpace& space, const Particles<Dim, MemorySpace>& P, const NeighbourList<Dim, ExecSpace>& list,
              double min_fluid_distance) {
-    // Fixed particles build their list once: no room to grow.
-    if (static_cast<long long>(factors_.extent(0)) < list.pairs())
-      factors_ = Kokkos::View<double*, MemorySpace>("NoSlipFactors", list.pairs() + 1);
-    if (static_cast<int>(touches_.extent(0)) < P.owned)
-      touches_ = Kokkos::View<bool*, MemorySpace>("NoSlipFactors::touches", P.owned + P.owned / 4 + 1);
-    const auto factors = factors_;
+    const int owned = P.owned;
+    row_first_ = Kokkos::View<int*, MemorySpace>("NoSlipFactors::row_first", owned + 1);
+    if (static_cast<int>(touches_.extent(0)) < owned)
+      touches_ = Kokkos::View<bool*, MemorySpace>("NoSlipFactors::touches", owned + owned / 4 + 1);
+    const auto row_first = row_first_;
     const auto touches = touches_;
     const auto Q = P;
-    static const std::string label = "poresph::NoSlipFactors::build";
+    // The rows' counts of fluid-boundary entries, then where each row's begin.
+    static const std::string label_count = "poresph::NoSlipFactors::count";
     Kokkos::parallel_for(
-        label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int a) {
+        label_count, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int a) {
           const int kind_a = Q.kind(a);
           bool touches_surface = kind_a != kFluid;
+          int count = 0;
+          for (int k = list.begin(a); k < list.end(a); ++k) {
+            const int kind_b = Q.kind(list.neighbour(k));
+            touches_surface = touches_surface || kind_b != kFluid;
+            count += mixed(kind_a, kind_b);
+          }
+          row_first(a) = count;
+          touches(a) = touches_surface;
+        });
+    int total = 0;
+    static const std::string label_scan = "poresph::NoSlipFactors::scan";
+    Kokkos::parallel_scan(
+        label_scan, Kokkos::RangePolicy<ExecSpace>(space, 0, owned + 1),
+        KOKKOS_LAMBDA(int a, int& before, bool final) {
+          const int count = a < owned ? row_first(a) : 0;
+          if (final) row_first(a) = before;
+          before += count;
+        },
+        total);
+    factors_ = Kokkos::View<double*, MemorySpace>("NoSlipFactors", total + 1);
+    const auto factors = factors_;
+    static const std::string label = "poresph::NoSlipFactors::build";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int a) {
+          const int kind_a = Q.kind(a);
+          int next = row_first(a);
           for (int k = list.begin(a); k < list.end(a); ++k) {
             const int b = list.neighbour(k);
             const int kind_b = Q.kind(b);
-            touches_surface = touches_surface || kind_b != kFluid;
+            if (!mixed(kind_a, kind_b)) continue;
             Vec<Dim> r;
             for (int d = 0; d < Dim; ++d) r[d] = list.separation(k, d);
-            if (kind_a == kFluid && kind_b != kFluid)
-              factors(k) = no_slip_factor_seen(Q, a, b, kind_b, r, min_fluid_distance);
-            else if (kind_a != kFluid && kind_b == kFluid)
-              factors(k) = no_slip_factor_seen(Q, b, a, kind_a, -1.0 * r, min_fluid_distance);
+            factors(next++) = kind_a == kFluid ? no_slip_factor_seen(Q, a, b, kind_b, r, min_fluid_distance)
+                                               : no_slip_factor_seen(Q, b, a, kind_a, -1.0 * r, min_fluid_distance);
           }
-          touches(a) = touches_surface;
         });
     space.fence();
     built_ = true;
   }
   void clear() { built_ = false; }
   bool built() const { return built_; }
-  KOKKOS_INLINE_FUNCTION double factor(int entry) const { return factors_(entry); }
+  // Factor `index`: row_first(a) plus the number of fluid-boundary entries
+  // of row a before this one.
+  KOKKOS_INLINE_FUNCTION double factor(int index) const { return factors_(index); }
+  KOKKOS_INLINE_FUNCTION int row_first(int a) const { return row_first_(a); }
   // Whether owned particle a's row of the list has a boundary particle (a itself or a neighbour).
   KOKKOS_INLINE_FUNCTION bool touches_surface(int a) const { return touches_(a); }
 
  private:
   Kokkos::View<double*, MemorySpace> factors_;
+  Kokkos::View<int*, MemorySpace> row_first_;
   Kokkos::View<bool*, MemorySpace> touches_;
   bool built_ = false;
 };

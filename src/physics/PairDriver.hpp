@@ -286,7 +286,8 @@ struct PairDriver : Terms... {
   // boundary particles (their density), and for a fluid particle the others,
   // whose accelerations are summed in the list's order (from -0.0, which the
   // first addition leaves exactly as the term's) before they join the sums.
-  // entry: the pair's list entry when the list caches geometry, else -1.
+  // entry: the pair's place among the cached fluid-boundary pairs of fixed
+  // particles (NoSlipFactors), else -1.
   using Shared = pair_detail::PairShared<Terms...>;
   template <class Term, bool AtBoundaryEnds>
   KOKKOS_FORCEINLINE_FUNCTION void add_term(Sums& sum, Vec<Dim>& acceleration, const PairEnd<Dim>& self,
@@ -316,6 +317,16 @@ struct PairDriver : Terms... {
     if constexpr (Term::surfaces) return static_cast<const Term&>(*this).row_touches_surface(a);
     (void)a;
     return false;
+  }
+
+  // Where row a's fluid-boundary pairs begin in the per-pair caches of the
+  // terms that bring surfaces (-1: none cached). The cached loop counts
+  // them from there, in the list's order.
+  template <class Term>
+  KOKKOS_FORCEINLINE_FUNCTION int first_surface_pair(int a) const {
+    if constexpr (Term::surfaces) return static_cast<const Term&>(*this).row_first_surface_pair(a);
+    (void)a;
+    return -1;
   }
 
   // One pair (a, b) at separation r with F = (1/r) dW/dr: added to a and,
@@ -397,13 +408,19 @@ struct PairDriver : Terms... {
 
   // The same with the separations and F of a fixed arrangement, cached in
   // the list: no gather of positions, no kernel evaluation.
+  // surface_pair: the next fluid-boundary pair's place in the per-pair
+  // caches (-1: none), counted on.
   template <bool BothEnds, bool Surfaces>
   KOKKOS_FORCEINLINE_FUNCTION void add_cached_pairs(const PairEnd<Dim>& end_a, Sums& sum_a, int copy, int first,
-                                                    int last) const {
+                                                    int last, int& surface_pair) const {
     for (int k = first; k < last; ++k) {
       Vec<Dim> r;
       for (int d = 0; d < Dim; ++d) r[d] = neighbours.separation(k, d);
-      add_pair<BothEnds, Surfaces>(end_a, sum_a, copy, neighbours.neighbour(k), r, neighbours.derivative_over_r(k), k);
+      const int b = neighbours.neighbour(k);
+      int entry = -1;
+      if constexpr (Surfaces)
+        if (surface_pair >= 0 && fluid_boundary_pair(end_a.kind, P.kind(b))) entry = surface_pair++;
+      add_pair<BothEnds, Surfaces>(end_a, sum_a, copy, b, r, neighbours.derivative_over_r(k), entry);
     }
   }
 
@@ -420,8 +437,10 @@ struct PairDriver : Terms... {
     const int copy = sums.acquire();
     const int ghosts_begin = neighbours.ghosts_begin(a);
     if (cached) {
-      add_cached_pairs<true, Surfaces>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);
-      add_cached_pairs<false, Surfaces>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));
+      int surface_pair = -1;
+      if constexpr (Surfaces) ((surface_pair = first_surface_pair<Terms>(a) >= 0 ? first_surface_pair<Terms>(a) : surface_pair), ...);
+      add_cached_pairs<true, Surfaces>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin, surface_pair);
+      add_cached_pairs<false, Surfaces>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a), surface_pair);
     } else {
       add_pairs<true, Surfaces>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);  // owned neighbours
       add_pairs<false, Surfaces>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));   // ghosts

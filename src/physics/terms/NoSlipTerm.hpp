@@ -20,7 +20,7 @@ struct NoSlipTerm : PairTermBase {
   static constexpr int components = 1;  // the wall drag kappa
   static constexpr bool surfaces = true;
   Particles<Dim, typename ExecSpace::memory_space> P;
-  NoSlipFactors<Dim, ExecSpace> no_slip;  // per list entry, when cached_no_slip
+  NoSlipFactors<Dim, ExecSpace> no_slip;  // per fluid-boundary list entry, when cached_no_slip
   bool cached_no_slip;
   double kinematic_viscosity, min_surface_distance;
   bool separate_wall_drag;
@@ -37,8 +37,13 @@ struct NoSlipTerm : PairTermBase {
   KOKKOS_FORCEINLINE_FUNCTION bool row_touches_surface(int a) const {
     return !cached_no_slip || no_slip.touches_surface(a);
   }
+  // Where row a's fluid-boundary pairs begin in the cache (-1: no cache).
+  KOKKOS_FORCEINLINE_FUNCTION int row_first_surface_pair(int a) const {
+    return cached_no_slip ? no_slip.row_first(a) : -1;
+  }
 
-  // The factor 1 + d_B / d_a, from the cache of fixed particles or computed.
+  // The factor 1 + d_B / d_a, from the cache of fixed particles (entry: the
+  // pair's place among the cached fluid-boundary pairs) or computed.
   KOKKOS_FORCEINLINE_FUNCTION void see(const PairEnd<Dim>& self, const PairEnd<Dim>& other, const EndGeometry<Dim>& g,
                                        int entry, SeenVelocity<Dim>& seen) const {
     if (other.kind == kFluid) return;
