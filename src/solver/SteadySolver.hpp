@@ -15,15 +15,17 @@
 // columns), D continuity (density rows, velocity columns) and S = -D A^-1 G
 // approximated by the least-squares commutator (LSC, Elman et al. 2006):
 // S^-1 ~ -(DG)^-1 (D Q^-1 A Q^-1 G) (DG)^-1, DG = D Q^-1 G, Q = diag(A).
-// The inner solves ((DG)^-1, A^-1) are GMRES to a loose tolerance; the
-// pressure solve is the seam where a multigrid for DG goes (the smoothed
-// aggregation that docs/steady_solver.md measures).
+// The inner solves ((DG)^-1, A^-1) are GMRES to a loose tolerance,
+// preconditioned by lattice Laplacians (solver/LatticePreconditioner.hpp:
+// the wide one for DG, the compact one for A). precondition_dg is the seam
+// where a better multigrid for DG goes (the smoothed aggregation on the
+// lattice's sign patterns that docs/steady_solver.md measures).
 #include <Kokkos_Core.hpp>
 
-#include <chrono>
-#include <cmath>
 #include <algorithm>
 #include <array>
+#include <chrono>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <string>
@@ -383,10 +385,12 @@ class SteadySolver {
       return;
     }
     wide_.apply(in, out);
-    const double scale = 1.0 / wide_scale_;
+    scale(out, 1.0 / wide_scale_);
+  }
+  void scale(const View& x, double factor) const {
     static const std::string label = "poresph::steady::scale";
     Kokkos::parallel_for(
-        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, out.extent(0)), KOKKOS_LAMBDA(int i) { out(i) *= scale; });
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, x.extent(0)), KOKKOS_LAMBDA(int i) { x(i) *= factor; });
     space_.fence();
   }
   void precondition_velocity(const View& in, const View& out) const {
@@ -396,16 +400,12 @@ class SteadySolver {
       multiply(diagonal_inverse_, out);
       return;
     }
-    const double scale = 1.0 / compact_scale_;
     for (int d = 0; d < Dim; ++d) {
       from_component(in, work_q_component_in_, d);
       compact_.apply(work_q_component_in_, work_q_component_out_);
       to_component(work_q_component_out_, out, d);
     }
-    static const std::string label = "poresph::steady::scale";
-    Kokkos::parallel_for(
-        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, out.extent(0)), KOKKOS_LAMBDA(int i) { out(i) *= scale; });
-    space_.fence();
+    scale(out, 1.0 / compact_scale_);
   }
 
   // out = D Q^-1 G q
@@ -429,13 +429,19 @@ class SteadySolver {
     space_.fence();
   }
 
-  // p ~ (DG)^-1 r: GMRES on DG + s I to the inner tolerance, the fluid mean removed.
-  void solve_dg(System& system, const View& r, const View& p) {
-    const auto& ops = system.vectors();
+  // What the preconditioner's inner solves are asked for.
+  KrylovOptions inner_krylov() const {
     KrylovOptions krylov;
     krylov.tolerance = options_.inner_tolerance;
     krylov.max_iterations = options_.max_inner_iterations;
     krylov.restart = std::min(options_.restart, options_.max_inner_iterations);
+    return krylov;
+  }
+
+  // p ~ (DG)^-1 r: GMRES on DG + s I to the inner tolerance, the fluid mean removed.
+  void solve_dg(System& system, const View& r, const View& p) {
+    const auto& ops = system.vectors();
+    const KrylovOptions krylov = inner_krylov();
     ops.fill(p, 0.0);
     const double shift = dg_shift_;
     const auto result = fgmres(
@@ -449,13 +455,10 @@ class SteadySolver {
     add_border(system, -border_dot(system, p), p);  // p - e (e . p): the fluid mean out
   }
 
-  // v ~ A^-1 r: GMRES with Jacobi to the inner tolerance.
+  // v ~ A^-1 r: GMRES with the compact lattice Laplacian to the inner tolerance.
   void solve_velocity(System& system, const View& r, const View& v) {
     const auto& ops = system.vectors();
-    KrylovOptions krylov;
-    krylov.tolerance = options_.inner_tolerance;
-    krylov.max_iterations = options_.max_inner_iterations;
-    krylov.restart = std::min(options_.restart, options_.max_inner_iterations);
+    const KrylovOptions krylov = inner_krylov();
     ops.fill(v, 0.0);
     const auto result = fgmres(
         ops, [&](const View& in, const View& out) { system.apply(&in, nullptr, out, work_q3_, kForward); },
