@@ -145,7 +145,9 @@ class StageLoop {
 
     health_ = std::make_unique<HealthWatch<Sim>>(sim, health_of(report_), check_interval);
     probes_.push_back(health_.get());
-    channel_ = scene.walls == WallType::Channel && stage_.drive_axis <= 0;
+    // The channel's profiles are checked against the start-up flow, a
+    // transient: a steady solve has none to compare (it reports k).
+    channel_ = scene.walls == WallType::Channel && stage_.drive_axis <= 0 && !scene.steady_solver;
     if (channel_) {
       channel_probe_ = std::make_unique<ChannelProbe<Sim>>(
           sim, ChannelFlow{scene.cell_size[1], scene.kinematic_viscosity, scene.body_force[0],

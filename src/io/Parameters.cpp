@@ -281,7 +281,8 @@ RCP<ParameterList> make_valid_parameters() {
           "Run/End Time; transients and moving particles need it. 'steady': fixed particles only; solve for the "
           "state whose rates are zero (up to the uniform density drift a wall makes) by Newton's method, each "
           "step by flexible GMRES with a block (LSC) preconditioner, with the time loop's own operators: the same "
-          "discrete answer without pseudo-time. Run/End Time and Run/Max Steps do not apply to it.",
+          "discrete answer without pseudo-time. Run/End Time and Run/Max Steps do not apply to it, nor the "
+          "channel's start-up profiles (profiles.csv, profile_error: a transient).",
           one_of({"explicit", "steady"}));
     s.set("Tolerance", 1e-6,
           "'steady': converged when the residual of the steady equations, the uniform density drift removed, "

@@ -9,6 +9,7 @@
   warning, "converged": false, "steady": false, stopped_by not_converged,
   and a checkpoint from which --restart then converges to the same k;
 - the ladder, the tensor and the linearity check run with it;
+- a channel solves to its k without a start-up profile check (a transient);
 - moving particles are refused (exit 2, nothing written).
 
     check_steady_solver.py PORESPH_BINARY INPUT_DIR WORK_DIR
@@ -102,6 +103,17 @@ check(done.returncode == 0 and ladder["solver"]["converged"] and len(ladder["con
       and abs(ladder["darcy_linearity"]["kxx"]) < 1e-2,
       f"ladder, tensor, linearity: kxx {ladder['permeability']['kxx']:.8e}, kyy {ladder['permeability']['kyy']:.8e}, "
       f"darcy_linearity {ladder['darcy_linearity']['kxx']:+.1e}")
+
+# A channel: its k, and no start-up profile check (a transient) reported for a solve.
+poiseuille = os.path.join(inputs, "poiseuille.xml")
+out = os.path.join(work, "steady-channel")
+done = subprocess.run([poresph, poiseuille, "--set", "Solver/Method=steady", "--set", "Run/Progress=never",
+                       "--output", out, "--overwrite"], env=env, capture_output=True, text=True)
+with open(os.path.join(out, "summary.json")) as f:
+    channel = json.load(f)
+check(done.returncode == 0 and channel["solver"]["converged"] and "profile_error" not in channel
+      and not os.path.exists(os.path.join(out, "profiles.csv")) and channel["permeability"]["kxx"] > 0,
+      f"channel: converged, k {channel['permeability']['kxx']:.6e}, no profile_error, no profiles.csv")
 
 # Moving particles have no steady state to solve for.
 done, refused, out = run("steady-lagrangian", ["Solver/Method=steady", "Discretization/Particle Motion=lagrangian"])
