@@ -235,15 +235,7 @@ class StageLoop {
     const auto loop_start = Clock::now();
     auto seconds = [&]() { return std::chrono::duration<double>(Clock::now() - loop_start).count(); };
     if (sim.communicator().any(stop_signal_pending())) stop_for(stop_signal_received(), seconds(), first_step);
-    SteadyOptions options;
-    options.tolerance = scene_.solver_tolerance;
-    options.linear_tolerance = scene_.solver_linear_tolerance;
-    options.max_nonlinear_iterations = scene_.solver_max_nonlinear_iterations;
-    options.max_linear_iterations = scene_.solver_max_linear_iterations;
-    options.restart = scene_.solver_restart;
-    options.inner_tolerance = scene_.solver_inner_tolerance;
-    options.max_inner_iterations = scene_.solver_max_inner_iterations;
-    const double tolerance = options.tolerance;
+    const double tolerance = scene_.solver.tolerance;
     const double force = force_magnitude(scene_);
     auto show = [&](const SteadyProgress& s) {
       // Done, as a fraction of the decades of residual from the start to the tolerance.
@@ -262,7 +254,7 @@ class StageLoop {
                       scene_.kinematic_viscosity * sim.superficial_velocity()[axis_] / force);
       progress_->show(text);
     };
-    SteadySolver<Dim, ExecSpace> solver(sim, ExecSpace(), options,
+    SteadySolver<Dim, ExecSpace> solver(sim, ExecSpace(), scene_.solver,
                                         [&]() { return sim.communicator().any(stop_signal_pending()); }, show);
     try {
       steady_report_ = solver.solve();

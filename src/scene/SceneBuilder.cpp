@@ -328,13 +328,13 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
 
   const auto& solver = list.sublist("Solver");
   scene.steady_solver = solver.get<std::string>("Method") == "steady";
-  scene.solver_tolerance = solver.get<double>("Tolerance");
-  scene.solver_linear_tolerance = solver.get<double>("Linear Tolerance");
-  scene.solver_max_nonlinear_iterations = solver.get<int>("Max Nonlinear Iterations");
-  scene.solver_max_linear_iterations = solver.get<int>("Max Linear Iterations");
-  scene.solver_restart = solver.get<int>("Krylov Restart");
-  scene.solver_inner_tolerance = solver.get<double>("Inner Tolerance");
-  scene.solver_max_inner_iterations = solver.get<int>("Max Inner Iterations");
+  scene.solver.tolerance = solver.get<double>("Tolerance");
+  scene.solver.linear_tolerance = solver.get<double>("Linear Tolerance");
+  scene.solver.max_nonlinear_iterations = solver.get<int>("Max Nonlinear Iterations");
+  scene.solver.max_linear_iterations = solver.get<int>("Max Linear Iterations");
+  scene.solver.restart = solver.get<int>("Krylov Restart");
+  scene.solver.inner_tolerance = solver.get<double>("Inner Tolerance");
+  scene.solver.max_inner_iterations = solver.get<int>("Max Inner Iterations");
   if (scene.steady_solver) {
     // What the steady equations are: those of particles that stay where they are.
     if (scene.particle_motion != ParticleMotion::Fixed)

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "geometry/VoxelImage.hpp"
+#include "solver/SteadyOptions.hpp"
 
 namespace poresph {
 
@@ -149,15 +150,10 @@ struct SceneConfig {
   bool linearity_check = false;
   double steady_tolerance = 0.0;  // on k's change over a span and its predicted change to come; 0 = run to the end
   double steady_window = 0.0;     // shortest span (s); the spin-up time k / (nu porosity) when longer
-  // Solver/: march in time, or solve for the steady state (fixed particles; solver/SteadySolver.hpp).
+  // Solver/: march in time, or solve for the steady state (fixed particles;
+  // solver/SteadySolver.hpp), and what that solve is asked for.
   bool steady_solver = false;
-  double solver_tolerance = 1e-6;
-  double solver_linear_tolerance = 1e-8;
-  int solver_max_nonlinear_iterations = 10;
-  int solver_max_linear_iterations = 1000;
-  int solver_restart = 30;
-  double solver_inner_tolerance = 1e-2;
-  int solver_max_inner_iterations = 100;
+  SteadyOptions solver;
 };
 
 }  // namespace poresph
