@@ -85,6 +85,30 @@ TYPED_TEST(SteadySolverTest, ProductsAreLinear) {
   }
 }
 
+// The preconditioner's products of one term at rest are the Jacobian's
+// blocks: the pressure term alone (G) gives the velocity rows of a density
+// change, continuity alone (D) the density rows of a velocity change, with
+// the grain's boundary particles (their wall pressure, their velocity) as in
+// the whole rates.
+TYPED_TEST(SteadySolverTest, ProductsOfOneTermAreTheJacobiansBlocks) {
+  using Space = TypeParam;
+  using System = SteadySystem<2, Space>;
+  Simulation<2, Space> sim(disc_cell(true));
+  System system(sim, Space());
+  const int n = system.owned();
+  const auto w_v = random_vector<Space>(2 * n, 5, system.fluid_mask(), 2);
+  const auto w_q = random_vector<Space>(n, 6, system.fluid_mask(), 1);
+  View<Space> full_v("full_v", 2 * n), full_q("full_q", n), part_v("part_v", 2 * n), part_q("part_q", n);
+  // Both forward differences: what differs is only which terms were summed.
+  system.apply(nullptr, &w_q, full_v, full_q, System::Accuracy::Forward);
+  system.apply(nullptr, &w_q, part_v, part_q, System::Accuracy::Forward, System::RateTerms::Pressure);
+  EXPECT_LT(difference<Space>(part_v, full_v), 1e-6);
+  system.apply(&w_v, nullptr, full_v, full_q, System::Accuracy::Forward);
+  system.apply(&w_v, nullptr, part_v, part_q, System::Accuracy::Forward, System::RateTerms::Continuity);
+  EXPECT_LT(difference<Space>(part_q, full_q), 1e-6);
+  EXPECT_EQ(system.partial_rate_evaluations(), 4) << "each term's rates at the state once, and one per product";
+}
+
 // The probed diagonal is J's: the response of a particle's own row to its own velocity.
 TYPED_TEST(SteadySolverTest, DiagonalIsTheJacobians) {
   using Space = TypeParam;

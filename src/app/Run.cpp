@@ -238,7 +238,8 @@ JsonObject RunReport::to_json() const {
           .add("solve_seconds", solver.solve_seconds)
           .add("bytes_per_particle", solver.bytes_per_particle)
           .add("inner_iterations", solver.inner_iterations)
-          .add("rate_evaluations", solver.rate_evaluations);
+          .add("rate_evaluations", solver.rate_evaluations)
+          .add("partial_rate_evaluations", solver.partial_rate_evaluations);
     json.add("solver", solved);
   }
   if (!failure.empty()) json.add("failure", failure);

@@ -109,7 +109,8 @@ struct RunReport {
   struct Solver {
     std::string method = "explicit";
     bool converged = true;
-    long long nonlinear_iterations = 0, linear_iterations = 0, inner_iterations = 0, rate_evaluations = 0;
+    long long nonlinear_iterations = 0, linear_iterations = 0, inner_iterations = 0, rate_evaluations = 0,
+              partial_rate_evaluations = 0;
     double residual = 0, setup_seconds = 0, solve_seconds = 0, bytes_per_particle = 0;
   } solver;
   // Permeability/Linearity Check: (k at F/2 - k at F) / k at F, per component.

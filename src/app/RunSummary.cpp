@@ -82,6 +82,7 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     solver.linear_iterations += r.linear_iterations;
     solver.inner_iterations += r.inner_iterations;
     solver.rate_evaluations += r.rate_evaluations;
+    solver.partial_rate_evaluations += r.partial_rate_evaluations;
     solver.residual = std::max(solver.residual, r.solver_residual);
     solver.setup_seconds += r.solver_setup_seconds;
     solver.solve_seconds += r.solver_solve_seconds;

@@ -295,6 +295,22 @@ void Simulation<Dim, ExecSpace>::compute_rates() {
 }
 
 template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::compute_rates(RateTerms terms) {
+  if (terms == RateTerms::All) return compute_rates();
+  neighbourhood_stage();
+  const auto& list = neighbourhood_.list();
+  if (terms == RateTerms::Pressure) {
+    wall_pressure_stage();
+    compute_pair_rates_of(space_, particles_, list, pair_sums_, kernel_, fluid_, body_force_, pair_options_,
+                          no_slip_factors_, PairTermList<PressureTerm<Dim, ExecSpace>>{});
+  } else {
+    compute_pair_rates_of(space_, particles_, list, pair_sums_, kernel_, fluid_, body_force_, pair_options_,
+                          no_slip_factors_, PairTermList<ContinuityTerm<Dim, ExecSpace>>{});
+  }
+  space_.fence();
+}
+
+template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::make_step_stages() {
   using S = Simulation;
   step_stages_ = {{"poresph::step::predict", &S::predict_stage},

@@ -94,6 +94,13 @@ class Simulation {
   // drag kept apart (fixed particles next to surfaces), a fluid particle's
   // dv/dt is dvdt - wall_drag v.
   void compute_rates();
+  // The same with a part of the pair terms (the steady solver's
+  // preconditioner): Pressure, the pressure gradient alone (dv/dt of fluid
+  // particles; with the wall pressure), or Continuity alone (d rho/dt of
+  // fluid particles). The other rates, and those of boundary particles, are
+  // not the state's until the next compute_rates().
+  enum class RateTerms { All, Pressure, Continuity };
+  void compute_rates(RateTerms terms);
 
   // A step is a named sequence of stages, each a member function; which a
   // scene has is decided once, at construction (make_step_stages): a new

@@ -380,6 +380,7 @@ class StageLoop {
       r.linear_iterations = solve.linear_iterations;
       r.inner_iterations = solve.inner_iterations;
       r.rate_evaluations = solve.rate_evaluations;
+      r.partial_rate_evaluations = solve.partial_rate_evaluations;
       r.solver_residual = solve.residual;
       r.solver_setup_seconds = solve.setup_seconds;
       r.solver_solve_seconds = solve.solve_seconds;

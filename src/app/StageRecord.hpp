@@ -8,7 +8,7 @@ namespace poresph {
 // What a finished stage measured, kept in every later checkpoint
 // (RunState::completed_stages) so that a restarted run reports all of them.
 struct StageRecord {
-  static constexpr int kSize = 29;
+  static constexpr int kSize = 30;
   int level = 0, axis = -1;
   bool half_force = false;
   double spacing = 0;
@@ -21,7 +21,8 @@ struct StageRecord {
   long long neighbour_rebuilds = 0;
   // Solver/Method = steady: what the stage's solve did (solver/SteadySolver.hpp).
   bool steady_solve = false, solver_converged = false;
-  long long nonlinear_iterations = 0, linear_iterations = 0, inner_iterations = 0, rate_evaluations = 0;
+  long long nonlinear_iterations = 0, linear_iterations = 0, inner_iterations = 0, rate_evaluations = 0,
+            partial_rate_evaluations = 0;
   double solver_residual = 0, solver_setup_seconds = 0, solver_solve_seconds = 0, solver_bytes_per_particle = 0;
 
   void append_to(std::vector<double>& values) const {
@@ -31,7 +32,8 @@ struct StageRecord {
                              u[0], u[1], u[2], double(neighbour_rebuilds), double(steady_solve),
                              double(solver_converged), double(nonlinear_iterations), double(linear_iterations),
                              double(rate_evaluations), solver_residual, solver_setup_seconds, solver_solve_seconds,
-                             solver_bytes_per_particle, double(inner_iterations)};
+                             solver_bytes_per_particle, double(inner_iterations),
+                             double(partial_rate_evaluations)};
     values.insert(values.end(), v, v + kSize);
   }
   static StageRecord read(const double* v) {
@@ -49,6 +51,7 @@ struct StageRecord {
     r.solver_residual = v[24], r.solver_setup_seconds = v[25], r.solver_solve_seconds = v[26];
     r.solver_bytes_per_particle = v[27];
     r.inner_iterations = static_cast<long long>(v[28]);
+    r.partial_rate_evaluations = static_cast<long long>(v[29]);
     return r;
   }
 };

@@ -36,7 +36,7 @@ namespace poresph {
 // with a message, not read wrongly. 4: the stages' records hold their
 // neighbour-list builds and superficial velocity, and the run state the
 // steady-state verdict, the channel profile's samples and the builds.
-constexpr const char* kCheckpointFormat = "poresph checkpoint 5";
+constexpr const char* kCheckpointFormat = "poresph checkpoint 6";
 
 // What defines the physics of a run, as "name = value" lines: a checkpoint
 // continues only a scene with the same lines. time_step and sound_speed are

@@ -135,6 +135,26 @@ void finish_pair_rates(const ExecSpace& space, const Particles<Dim, typename Exe
       inputs, [&](auto terms) { run_pair_finish(policy, inputs, sums, body_force, terms); });
 }
 
+// The rates of one list of terms only, not the scene's: the steady
+// solver's preconditioner products (solver/SteadySolver.hpp) take the
+// pressure gradient or the continuity alone, a pair loop a fraction of the
+// scene's. The list holds no term that brings surfaces: every row takes the
+// loop without them, and a boundary particle is an end like a fluid one,
+// which the pressure and continuity terms of a fluid particle do not tell
+// apart; the rows of boundary particles are then not their rates.
+template <int Dim, class ExecSpace, class... Terms>
+void compute_pair_rates_of(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                           const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                           const QuinticKernel<Dim>& kernel, const FluidProperties& fluid, const Vec<Dim>& body_force,
+                           const PairLoopOptions& options, const NoSlipFactors<Dim, ExecSpace>& no_slip,
+                           PairTermList<Terms...> terms) {
+  static_assert(!(Terms::surfaces || ...), "a partial pair loop treats boundary particles as fluid ones");
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
+  const PairTermInputs<Dim, ExecSpace> inputs{P, fluid, options, no_slip, neighbours.has_geometry()};
+  run_pair_loop(policy, inputs, neighbours, sums, kernel, terms);
+  run_pair_finish(policy, inputs, sums, body_force, terms);
+}
+
 // Both: the rates of all owned particles.
 template <int Dim, class ExecSpace>
 void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,

@@ -45,7 +45,8 @@ struct SteadyReport {
   int nonlinear_iterations = 0;
   long long linear_iterations = 0;
   long long inner_iterations = 0;
-  long long rate_evaluations = 0;
+  long long rate_evaluations = 0;          // of all the pair terms
+  long long partial_rate_evaluations = 0;  // of the pressure or the continuity term alone
   double residual = std::numeric_limits<double>::quiet_NaN();
   double setup_seconds = 0, solve_seconds = 0;
   double bytes_per_particle = 0;  // what the solver allocates, over the particles (fluid and boundary)
@@ -67,6 +68,9 @@ class SteadySolver {
   using Clock = std::chrono::steady_clock;
   // The preconditioner's products: near J is enough, at one rate evaluation each.
   static constexpr auto kForward = System::Accuracy::Forward;
+  // G and D alone: a pair loop with one term, cheaper than the whole rates.
+  static constexpr auto kGradient = System::RateTerms::Pressure;
+  static constexpr auto kDivergence = System::RateTerms::Continuity;
   static constexpr int kBacktracks = 3;
 
   // should_stop: asked after every linear iteration (all processes agree);
@@ -167,6 +171,7 @@ class SteadySolver {
     report.converged = residual <= options_.tolerance && !report.interrupted;
     report.inner_iterations = inner_iterations_;
     report.rate_evaluations = system.rate_evaluations();
+    report.partial_rate_evaluations = system.partial_rate_evaluations();
     report.solve_seconds = seconds_since(start) - report.setup_seconds;
     // Outer Krylov basis (2 restart + 2 bordered vectors), the step and right-hand
     // side; one inner basis at a time (the velocity block's is the larger); the
@@ -401,17 +406,17 @@ class SteadySolver {
 
   // out = D Q^-1 G q
   void apply_dg(System& system, const View& q, const View& out) {
-    system.apply(nullptr, &q, work_v_, work_q3_, kForward);
+    system.apply(nullptr, &q, work_v_, work_q3_, kForward, kGradient);
     multiply(diagonal_inverse_, work_v_);
-    system.apply(&work_v_, nullptr, work_v2_, out, kForward);
+    system.apply(&work_v_, nullptr, work_v2_, out, kForward, kDivergence);
   }
   // out = D Q^-1 A Q^-1 G q
   void apply_dag(System& system, const View& q, const View& out) {
-    system.apply(nullptr, &q, work_v_, work_q3_, kForward);
+    system.apply(nullptr, &q, work_v_, work_q3_, kForward, kGradient);
     multiply(diagonal_inverse_, work_v_);
     system.apply(&work_v_, nullptr, work_v2_, work_q3_, kForward);
     multiply(diagonal_inverse_, work_v2_);
-    system.apply(&work_v2_, nullptr, work_v_, out, kForward);
+    system.apply(&work_v2_, nullptr, work_v_, out, kForward, kDivergence);
   }
   void multiply(const View& factor, const View& x) const {
     static const std::string label = "poresph::steady::multiply";
@@ -476,7 +481,7 @@ class SteadySolver {
     // The mean density change is the border row's.
     add_border(system, read_border(in), out_q);
     // v = A^-1 (r_v - G p)
-    system.apply(nullptr, &out_q, work_v2_, work_q3_, kForward);
+    system.apply(nullptr, &out_q, work_v2_, work_q3_, kForward, kGradient);
     ops.copy(in_v, work_v3_);
     ops.update(-1.0, work_v2_, 1.0, work_v3_);
     solve_velocity(system, work_v3_, out_v);

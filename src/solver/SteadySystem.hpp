@@ -32,6 +32,7 @@ class SteadySystem {
   using Sim = Simulation<Dim, ExecSpace>;
   using MemorySpace = typename ExecSpace::memory_space;
   using View = Kokkos::View<double*, MemorySpace>;
+  using RateTerms = typename Sim::RateTerms;
 
   SteadySystem(Sim& sim, const ExecSpace& space)
       : sim_(sim), space_(space), ops_{space, sim.communicator()}, owned_(sim.particles().owned) {
@@ -46,6 +47,7 @@ class SteadySystem {
     residual_q_ = View("steady_residual_q", owned_);
     scratch_v_ = View("steady_scratch_v", owned_ * Dim);
     scratch_q_ = View("steady_scratch_q", owned_);
+    for (auto& base : partial_) base = {View("steady_partial_v", owned_ * Dim), View("steady_partial_q", owned_)};
     fluid_ = View("steady_fluid", owned_);
     const auto kind = sim.particles().kind;
     const auto fluid = fluid_;
@@ -66,6 +68,8 @@ class SteadySystem {
   const View& residual_v() const { return residual_v_; }
   const View& residual_q() const { return residual_q_; }
   long long rate_evaluations() const { return evaluations_; }
+  // Evaluations of a part of the pair terms (apply() with RateTerms other than All).
+  long long partial_rate_evaluations() const { return partial_evaluations_; }
 
   // The simulation's current state becomes the one products are taken at.
   void take_state() {
@@ -80,6 +84,7 @@ class SteadySystem {
         });
     space_.fence();
     evaluate(residual_v_, residual_q_);
+    for (auto& base : partial_) base.current = false;
   }
 
   // y += (dv, dq) on fluid particles, into the simulation; the residual there.
@@ -91,10 +96,13 @@ class SteadySystem {
   // (out_v, out_q) = J (wv, wq) at the current state; a null wv or wq is
   // zero. Central differences; Accuracy::Forward takes one rate evaluation
   // instead of two, F(y + d w) - F(y), first order in d: enough for a
-  // preconditioner, whose products need only be near J's.
+  // preconditioner, whose products need only be near J's. terms: the
+  // pressure gradient alone (G, velocity rows of a density w) or the
+  // continuity alone (D, density rows of a velocity w), forward differences
+  // of a pair loop with that term only (Simulation::compute_rates(RateTerms)).
   enum class Accuracy { Central, Forward };
   void apply(const View* wv, const View* wq, const View& out_v, const View& out_q,
-             Accuracy accuracy = Accuracy::Central) {
+             Accuracy accuracy = Accuracy::Central, RateTerms terms = RateTerms::All) {
     const double size = std::sqrt((wv ? ops_.dot(*wv, *wv) : 0.0) + (wq ? ops_.dot(*wq, *wq) : 0.0));
     if (!(size > 0)) {
       ops_.fill(out_v, 0.0);
@@ -104,6 +112,19 @@ class SteadySystem {
     // A perturbation of 1 % of the velocity scale per unknown, on average.
     const double n = static_cast<double>(sim_.fluid_particles()) * (Dim + 1);
     const double step = 1e-4 * velocity_scale_ * std::sqrt(n) / size;
+    if (terms != RateTerms::All) {
+      PartialBase& base = partial_[terms == RateTerms::Pressure ? 0 : 1];
+      if (!base.current) {  // F of these terms at the state, once per state
+        evaluate(base.v, base.q, terms);
+        base.current = true;
+      }
+      set_state(step, wv, wq);
+      evaluate(out_v, out_q, terms);
+      ops_.update(-1.0 / step, base.v, 1.0 / step, out_v);
+      ops_.update(-1.0 / step, base.q, 1.0 / step, out_q);
+      set_state(0.0, nullptr, nullptr);
+      return;
+    }
     set_state(step, wv, wq);
     evaluate(out_v, out_q);
     if (accuracy == Accuracy::Forward) {
@@ -186,10 +207,10 @@ class SteadySystem {
     space_.fence();
   }
 
-  // F at the simulation's state.
-  void evaluate(const View& out_v, const View& out_q) {
-    sim_.compute_rates();
-    ++evaluations_;
+  // F at the simulation's state (of the given terms only: see apply()).
+  void evaluate(const View& out_v, const View& out_q, RateTerms terms = RateTerms::All) {
+    sim_.compute_rates(terms);
+    ++(terms == RateTerms::All ? evaluations_ : partial_evaluations_);
     const auto P = sim_.particles();
     const auto fluid = fluid_;
     const bool drag = P.has_surfaces;
@@ -210,8 +231,14 @@ class SteadySystem {
   KrylovVectors<ExecSpace> ops_;
   int owned_;
   double to_q_ = 1, drag_time_ = 0, velocity_scale_ = 1;
-  long long evaluations_ = 0;
+  long long evaluations_ = 0, partial_evaluations_ = 0;
   View base_v_, base_q_, residual_v_, residual_q_, scratch_v_, scratch_q_, fluid_;
+  // F of the pressure term alone [0] and of continuity alone [1] at the state.
+  struct PartialBase {
+    View v, q;
+    bool current = false;
+  };
+  PartialBase partial_[2];
 };
 
 }  // namespace poresph
