@@ -13,6 +13,12 @@ the convective term. Every run stops by itself when k is steady.
         [--problem3-runs DIR...] [--problem3-reference K_M2]
         [--square-arrays-csv build/square-arrays/square_arrays.csv]
     perf/speed_vs_error.py --replot build/speed-vs-error/speed_vs_error.csv
+    perf/speed_vs_error.py --add-steady docs/figures/speed_vs_error.csv --problem3-reference K_M2
+
+--add-steady runs the steady solver (Solver/Method = steady, its defaults)
+on the square arrays at the three spacings and problem III at 0.02, 0.01
+and 0.005 L, and adds its rows to those of an earlier CSV (replacing
+earlier steady rows): the figure and the table then show both.
 
 Problem III at dx = 0.005 L and 0.0025 L takes minutes to hours; such runs
 are made once (input/problem3/problem3.xml with Discretization/Particle
@@ -42,6 +48,7 @@ L = 0.1
 SANGANI_ACRIVOS = {20: 1 / 51.53, 50: 1 / 532.55}
 DEFAULT = "fixed (default)"
 LADDER = "ladder, 3 levels"
+STEADY = "steady solve"  # Solver/Method = steady: no pseudo-time, no steps
 MOVING = "moving, shifting"  # the paper's moving particles, with particle shifting
 MOVING_SETTINGS = ["Discretization/Particle Motion=lagrangian", "Discretization/Wall Pressure=continuity",
                    "Discretization/Particle Shifting=4"]
@@ -98,6 +105,14 @@ def report(rows):
             cost = r["wall_seconds"] * r["ranks"]
             ax.errorbar([cost], [abs(r["relative_error"])], yerr=[[0], [r["uncertainty"]]], fmt="*", ms=11,
                         color=colour, capsize=3, label=f"{scene}, ladder (band: GCI)")
+        sel = sorted((r for r in rows if r["scene"] == scene and r["variant"] == STEADY and r["relative_error"]),
+                     key=lambda r: r["wall_seconds"])
+        if sel:
+            ax.loglog([r["wall_seconds"] for r in sel], [abs(r["relative_error"]) for r in sel], "s-.",
+                      color=colour, mfc="none", label=f"{scene}, {STEADY}")
+            for r in sel:
+                ax.annotate(f"{r['dx_over_L']:g}L", (r["wall_seconds"], abs(r["relative_error"])), fontsize=7,
+                            textcoords="offset points", xytext=(4, -9))
         for marker, variant in [("^", "moving, shifting, raised c"), ("v", "fixed, no convection")]:
             sel = [r for r in rows if r["scene"] == scene and r["variant"] == variant]
             if sel:
@@ -123,9 +138,39 @@ def report(rows):
             print(f"| {r['scene']} | {r['variant']} | 3 levels | {r['k_over_L2']:.5g} | {ref} | {err} "
                   f"(band +-{100 * r['uncertainty']:.2f}) | | {r['wall_seconds']:.0f} | {r['ranks']} | | |")
             continue
+        if r["variant"] == STEADY:  # no steps, no End Time
+            print(f"| {r['scene']} | {r['variant']} | {r['dx_over_L']:g} | {r['k_over_L2']:.5g} | {ref} | {err} | "
+                  f"| {r['wall_seconds']:.1f} | {r['ranks']} | | |")
+            continue
         print(f"| {r['scene']} | {r['variant']} | {r['dx_over_L']:g} | {r['k_over_L2']:.5g} | {ref} | "
               f"{err} | {r['steps']} | {r['wall_seconds']:.0f} | {r['ranks']} | {r['wall_seconds_to_end_time']:.0f} | "
               f"{r['wall_seconds_to_end_time'] / r['wall_seconds']:.1f}x |")
+
+
+def steady_row(scene, dx, summary, reference):
+    k = summary["permeability"]["kxx"] / L**2
+    return dict(scene=scene, variant=STEADY, dx_over_L=dx / L, k_over_L2=k, reference=reference,
+                relative_error=k / reference - 1, steady=summary["solver"]["converged"], steps=None,
+                wall_seconds=summary["wall_seconds"], ranks=1, wall_seconds_to_end_time=None, uncertainty=None)
+
+
+def add_steady(args):
+    """The steady solver's rows, added to those of an earlier CSV."""
+    if not args.problem3_reference:
+        sys.exit("--add-steady needs --problem3-reference")
+    rows = [r for r in read_rows(args.add_steady) if r["variant"] != STEADY]
+    runs = [(f"square array c = 0.{fraction // 10}", f"square_array/square_array_c{fraction}.xml", dx, reference)
+            for fraction, reference in SANGANI_ACRIVOS.items() for dx in [0.004, 0.002, 0.001]]
+    runs += [("problem III", "problem3/problem3.xml", dx, args.problem3_reference / L**2)
+             for dx in [0.002, 0.001, 0.0005]]
+    for scene, path, dx, reference in runs:
+        out = os.path.join(args.out, f"{os.path.basename(path)[:-4]}-dx{dx}-steady")
+        s = run_poresph(args.build, path, out, [f"Discretization/Particle Spacing={dx!r}", "Solver/Method=steady"])
+        rows.append(steady_row(scene, dx, s, reference))
+        print(rows[-1], file=sys.stderr, flush=True)
+    write_csv(os.path.join(args.out, "speed_vs_error.csv"), rows)
+    write_csv(os.path.join(ROOT, "docs", "figures", "speed_vs_error.csv"), rows)
+    report(rows)
 
 
 def main():
@@ -141,6 +186,8 @@ def main():
                              "instead of running them again")
     parser.add_argument("--ladder-csv", default=None,
                         help="perf/ladder.py's ladder.csv: the ladders' points, with their bands")
+    parser.add_argument("--add-steady", default=None, metavar="CSV",
+                        help="run the steady solver's rows and add them to those of an earlier speed_vs_error.csv")
     parser.add_argument("--replot", default=None, metavar="CSV",
                         help="make the plot and the table from an earlier speed_vs_error.csv, running nothing")
     args = parser.parse_args()
@@ -148,6 +195,9 @@ def main():
         report(read_rows(args.replot))
         return
     os.makedirs(args.out, exist_ok=True)
+    if args.add_steady:
+        add_steady(args)
+        return
     rows = []
 
     def save():

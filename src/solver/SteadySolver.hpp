@@ -175,11 +175,12 @@ class SteadySolver {
     report.solve_seconds = seconds_since(start) - report.setup_seconds;
     // Outer Krylov basis (2 restart + 2 bordered vectors), the step and right-hand
     // side; one inner basis at a time (the velocity block's is the larger); the
-    // system's and the preconditioner's own fields; the gathered lattices.
+    // system's fields (its state, residual and scratch, the two partial
+    // residuals of G and D alone) and the preconditioner's; the gathered lattices.
     const double outer = (2.0 * options_.restart + 4) * n;
     const int inner_restart = std::min(options_.restart, options_.max_inner_iterations);
     const double inner = (2.0 * inner_restart + 2) * nv;
-    const double fields = 7.0 * (nv + nq) + 2.0 * nv + 8.0 * nq;
+    const double fields = 9.0 * (nv + nq) + 2.0 * nv + 8.0 * nq;
     const double lattices = wide_.values_held() + compact_.values_held();
     const double bytes = sim_.communicator().sum(8.0 * (outer + inner + fields + lattices));
     const double particles = static_cast<double>(sim_.fluid_particles() + sim_.boundary_particles());
