@@ -2,9 +2,11 @@
 // One stage of a run (app/RunPlan.hpp): the simulation at the stage's
 // spacing and force, started from the lattice, the end of the stage before
 // it or a checkpoint, and the time loop that steps it and calls its
-// observers (diagnostics/Observer.hpp), each in its own file: the channel
-// profile probe, the health watch, the permeability probe with the
-// steady-state stop, the field files, the checkpoints and the progress line.
+// observers (diagnostics/Observer.hpp), each in its own file and made by the
+// list of app/StageObservers.hpp: the channel profile probe, the health
+// watch, the permeability probe with the steady-state stop, the field files,
+// the checkpoints and the progress line. What they measured comes back
+// through Observer::report into the stage's record and summary.json.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,15 +23,10 @@
 #include "app/StageRecord.hpp"
 #include "app/Simulation.hpp"
 #include "core/ExecutionSpaces.hpp"
-#include "diagnostics/ChannelProbe.hpp"
-#include "diagnostics/HealthWatch.hpp"
-#include "diagnostics/PermeabilityProbe.hpp"
+#include "app/StageObservers.hpp"
 #include "io/Checkpoint.hpp"
-#include "io/Checkpoints.hpp"
-#include "io/FieldFrames.hpp"
 #include "io/OutputDirectory.hpp"
 #include "io/ParticlesCsv.hpp"
-#include "io/ProgressLine.hpp"
 #include "solver/SteadySolver.hpp"
 
 namespace poresph {
@@ -143,40 +140,7 @@ class StageLoop {
     const long long check_interval =
         static_cast<long long>(std::clamp(std::floor(shortest_scale / (20 * dt)), 1.0, 100.0));
 
-    health_ = std::make_unique<HealthWatch<Sim>>(sim, health_of(report_), check_interval);
-    probes_.push_back(health_.get());
-    // The channel's profiles are checked against the start-up flow, a
-    // transient: a steady solve has none to compare (it reports k).
-    channel_ = scene.walls == WallType::Channel && stage_.drive_axis <= 0 && !scene.steady_solver;
-    if (channel_) {
-      channel_probe_ = std::make_unique<ChannelProbe<Sim>>(
-          sim, ChannelFlow{scene.cell_size[1], scene.kinematic_viscosity, scene.body_force[0],
-                           scene.lower_wall_velocity, scene.upper_wall_velocity},
-          scene.profile_sample_times, dir + "/profiles" + stage_.suffix + ".csv", continuing,
-          continuing ? static_cast<long long>(restored->profile_rows) : 0, restored);
-      probes_.insert(probes_.begin(), channel_probe_.get());
-    }
     axis_ = force_axis(scene);
-    double force = 0;
-    for (int d = 0; d < Dim; ++d) force += scene.body_force[d] * scene.body_force[d];
-    force = std::sqrt(force);
-    if (axis_ >= 0 && scene.kinematic_viscosity > 0) {
-      // A warm start excites the slowest acoustic mode: judged over its period.
-      PermeabilityMonitor<Dim> monitor(axis_, scene.kinematic_viscosity, force, context_.porosity,
-                                       acoustic_time, scene.steady_window,
-                                       scene.steady_tolerance, warm_started_);
-      permeability_ = std::make_unique<PermeabilityProbe<Dim, Sim>>(
-          sim, std::move(monitor), axis_, check_interval, scene.steady_tolerance > 0,
-          dir + "/permeability_history" + stage_.suffix + ".csv", continuing,
-          continuing ? static_cast<long long>(restored->history_rows) : 0, restored);
-      probes_.push_back(permeability_.get());
-    }
-
-    fields_ = std::make_unique<FieldFrames<Dim, Sim>>(sim, dir, stage_.suffix, restored, continuing);
-    writers_.push_back(fields_.get());
-    checkpoints_ = std::make_unique<Checkpoints<Sim>>(scene.checkpoint_interval, scene.final_checkpoint,
-                                                      [this](bool rates_valid) { write_checkpoint_now(rates_valid); });
-    writers_.push_back(checkpoints_.get());
     const bool show = root && (scene.progress == ProgressMode::Always ||
                                (scene.progress == ProgressMode::Auto && options_.progress_on_terminal));
     std::string label;
@@ -184,21 +148,46 @@ class StageLoop {
     if (stage_.drive_axis >= 0) label += std::string("[F along ") + "xyz"[stage_.drive_axis] + "] ";
     if (stage_.half_force) label += "[F / 2] ";
     last_step_ = poresph::last_step(scene.end_time, dt, scene.max_steps);
-    progress_ = std::make_unique<ProgressObserver<Sim>>(show, label, last_step_, [this]() { return progress_status(); });
-    writers_.push_back(progress_.get());
+    const StageSetting<Sim> setting{sim,
+                                    scene,
+                                    dir,
+                                    stage_.suffix,
+                                    restored,
+                                    continuing,
+                                    stage_.finest(),
+                                    warm_started_,
+                                    scene.steady_solver,
+                                    axis_,
+                                    stage_.drive_axis,
+                                    check_interval,
+                                    acoustic_time,
+                                    context_.porosity,
+                                    health_of(report_),
+                                    [this](bool rates_valid) { write_checkpoint_now(rates_valid); },
+                                    show,
+                                    label,
+                                    last_step_,
+                                    [this]() { return progress_status(); }};
+    for (const auto make : stage_observers<Dim, Sim>()) {
+      auto observer = make(setting);
+      if (!observer) continue;
+      (observer->writes() ? writers_ : probes_).push_back(observer.get());
+      observers_.push_back(std::move(observer));
+    }
   }
 
   ProgressStatus progress_status() const {
     ProgressStatus status;
-    if (permeability_ && permeability_->monitor().measured()) {
-      const auto& monitor = permeability_->monitor();
-      status.has_permeability = true;
-      status.permeability = monitor.permeability(axis_);
-      status.remaining_change = monitor.detector().remaining_change();
-      if (permeability_->stops_when_steady()) status.steady_time = monitor.detector().predicted_steady_time();
-    }
+    for (const auto& o : observers_) o->status(status);
     return status;
   }
+  // Ends the progress line before other output.
+  void end_display() {
+    for (const auto& o : observers_) o->end_display();
+  }
+  // Whether the stage measures k: a viscous scene driven along one axis
+  // (then it has a permeability probe).
+  bool measures_permeability() const { return axis_ >= 0 && scene_.kinematic_viscosity > 0; }
 
   void write_checkpoint_now(bool rates_valid) {
     RunState state;
@@ -217,7 +206,7 @@ class StageLoop {
 
   // Stops the run for a signal: the state as it stands, and what the stage measured.
   [[noreturn]] void stop_for(int signal_number, double loop_seconds, long long first_step) {
-    progress_->finish();
+    end_display();
     write_checkpoint_now(true);
     record("signal", loop_seconds, first_step);
     throw RunInterrupted("stopped by " + signal_name(signal_number) + " at step " + std::to_string(sim_->steps()) +
@@ -249,24 +238,24 @@ class StageLoop {
         const double eta = seconds() * std::max(span - done, 0.0) / done;
         n += std::snprintf(text + n, sizeof text - n, "  ETA %.0f s", eta);
       }
-      if (permeability_ && force > 0)
+      if (measures_permeability() && force > 0)
         std::snprintf(text + n, sizeof text - n, "  k = %.5e m^2",
                       scene_.kinematic_viscosity * sim.superficial_velocity()[axis_] / force);
-      progress_->show(text);
+      for (const auto& o : observers_) o->show(text);
     };
     SteadySolver<Dim, ExecSpace> solver(sim, ExecSpace(), scene_.solver,
                                         [&]() { return sim.communicator().any(stop_signal_pending()); }, show);
     try {
       steady_report_ = solver.solve();
     } catch (const std::exception& error) {  // a failed allocation, MPI: summary.json says so
-      progress_->finish();
+      end_display();
       record("error", seconds(), first_step);
       report_.failure = error.what();
       throw;
     }
     if (steady_report_->interrupted) stop_for(stop_signal_received(), seconds(), first_step);
     const double loop_seconds = seconds();
-    progress_->finish();
+    end_display();
     for (auto* o : probes_) o->at_end(sim);
     record(steady_report_->converged ? "steady_state" : "not_converged", loop_seconds, first_step);
     if (scene_.write_final_particles)
@@ -307,7 +296,7 @@ class StageLoop {
         }
       }
     } catch (const SimulationFailure& failure) {
-      progress_->finish();
+      end_display();
       sim.rewind_failed_step();
       std::string saved = "; the last good state (step " + std::to_string(sim.steps()) + ") is in " + checkpoint_path;
       try {
@@ -321,15 +310,16 @@ class StageLoop {
     } catch (const RunInterrupted&) {
       throw;
     } catch (const std::exception& error) {  // a file that could not be written: summary.json says so
-      progress_->finish();
+      end_display();
       record("error", seconds(), first_step);
       report_.failure = error.what();
       throw;
     }
     const double loop_seconds = seconds();
-    progress_->finish();
+    end_display();
     for (auto* o : probes_) o->at_end(sim);
-    const bool steady = permeability_ && permeability_->wants_stop();
+    bool steady = false;  // a probe stopped the loop (the steady-state stop)
+    for (auto* o : probes_) steady = steady || o->wants_stop();
     const long long steps_to_end = steps_to_end_time(scene_.end_time, sim.time_step());
     // Recorded before the last files are written: if one of them fails, summary.json still describes the run.
     record(steady ? "steady_state" : sim.steps() >= steps_to_end ? "end_time" : "max_steps", loop_seconds, first_step);
@@ -359,11 +349,14 @@ class StageLoop {
     report.threads = ExecSpace::concurrency();
     report.backend = backend_name<ExecSpace>();
     report.neighbours_per_particle = sim.neighbours_per_particle();
-    record_health(report, health_->record());
-    if (channel_ && stage_.finest()) {
+    StageObservations observed;
+    observed.health = health_of(report);
+    for (const auto& o : observers_) o->report(observed);
+    record_health(report, observed.health);
+    if (observed.channel) {
       report.channel = true;
-      report.profile_error = channel_probe_->largest_error();
-      report.profile_samples = channel_probe_->samples();
+      report.profile_error = observed.profile_error;
+      report.profile_samples = observed.profile_samples;
     }
     StageRecord r;
     r.level = stage_.level, r.axis = axis_, r.half_force = stage_.half_force, r.spacing = stage_.spacing;
@@ -387,20 +380,19 @@ class StageLoop {
       r.solver_bytes_per_particle = solve.bytes_per_particle;
     }
     const double force = force_magnitude(scene_);
-    if (steady_report_ && permeability_ && force > 0) {
+    if (steady_report_ && measures_permeability() && force > 0) {
       // The solved state's own k: no pseudo-time, so no span to judge it over.
       r.has_permeability = true;
       const auto u = sim.superficial_velocity();
       for (int i = 0; i < Dim; ++i) r.k[i] = scene_.kinematic_viscosity * u[i] / force, r.u[i] = u[i];
       r.steady = steady_report_->converged;
       r.relative_change = r.remaining_change = 0;
-    } else if (permeability_ && permeability_->monitor().measured()) {
-      const auto& monitor = permeability_->monitor();
+    } else if (observed.has_permeability) {
       r.has_permeability = true;
-      for (int i = 0; i < Dim; ++i) r.k[i] = monitor.permeability(i), r.u[i] = monitor.superficial_velocity()[i];
-      r.steady = monitor.steady();
-      r.relative_change = monitor.detector().relative_change();
-      r.remaining_change = monitor.detector().remaining_change();
+      for (int i = 0; i < Dim; ++i) r.k[i] = observed.k[i], r.u[i] = observed.u[i];
+      r.steady = observed.steady;
+      r.relative_change = observed.relative_change;
+      r.remaining_change = observed.remaining_change;
     }
     records_.push_back(r);
   }
@@ -442,15 +434,10 @@ class StageLoop {
   std::string fingerprint_;
   std::vector<std::string> later_suffixes_;  // of the stages after this one
   size_t records_before_ = 0;                // records of the stages before this one
-  bool warm_started_ = false, channel_ = false;
+  bool warm_started_ = false;
   int axis_ = -1;
   long long last_step_ = 0;
-  std::unique_ptr<HealthWatch<Sim>> health_;
-  std::unique_ptr<ChannelProbe<Sim>> channel_probe_;
-  std::unique_ptr<PermeabilityProbe<Dim, Sim>> permeability_;
-  std::unique_ptr<FieldFrames<Dim, Sim>> fields_;
-  std::unique_ptr<Checkpoints<Sim>> checkpoints_;
-  std::unique_ptr<ProgressObserver<Sim>> progress_;
+  std::vector<std::unique_ptr<Observer<Sim>>> observers_;  // app/StageObservers.hpp, in their order
   std::optional<SteadyReport> steady_report_;  // Solver/Method = steady, once solved
   double steady_start_residual_ = 0;           // for the progress line's ETA
   std::vector<Observer<Sim>*> probes_, writers_;  // measure, then write: the steady stop comes between

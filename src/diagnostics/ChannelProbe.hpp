@@ -4,7 +4,6 @@
 // particles' own time (diagnostics/ChannelFlow.hpp); the largest error goes
 // to summary.json, the points to profiles.csv (rank 0) for plots.
 #include <Kokkos_Core.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +13,7 @@
 #include "core/Particles.hpp"
 #include "diagnostics/ChannelFlow.hpp"
 #include "diagnostics/Observer.hpp"
+#include "diagnostics/StageSetting.hpp"
 #include "io/HistoryFile.hpp"
 
 namespace poresph {
@@ -64,6 +64,21 @@ class ChannelProbe : public Observer<Sim> {
     }
   }
 
+  // A channel's stage on the scene's own force, marched: a steady solve has
+  // no start-up flow to compare (it reports k). Only the finest level's
+  // profiles go into the summary.
+  static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
+    const SceneConfig& scene = s.scene;
+    if (scene.walls != WallType::Channel || s.stage_axis > 0 || s.steady_solve) return nullptr;
+    auto probe = std::make_unique<ChannelProbe>(
+        s.sim, ChannelFlow{scene.cell_size[1], scene.kinematic_viscosity, scene.body_force[0],
+                           scene.lower_wall_velocity, scene.upper_wall_velocity},
+        scene.profile_sample_times, s.output_dir + "/profiles" + s.suffix + ".csv", s.continuing,
+        s.continuing ? static_cast<long long>(s.restored->profile_rows) : 0, s.restored);
+    probe->reports_ = s.finest;
+    return probe;
+  }
+
   // Sample at the first step at or past each requested time; the series is
   // evaluated at the particles' own time, so no interpolation enters.
   void after_step(Sim& sim) override {
@@ -83,6 +98,12 @@ class ChannelProbe : public Observer<Sim> {
 
   double largest_error() const { return largest_; }
   const std::vector<ProfileSample>& samples() const { return samples_; }
+  void report(StageObservations& o) const override {
+    if (!reports_) return;
+    o.channel = true;
+    o.profile_error = largest_;
+    o.profile_samples = samples_;
+  }
 
  private:
   void sample(Sim& sim, double sample_time) {
@@ -104,6 +125,7 @@ class ChannelProbe : public Observer<Sim> {
   double largest_ = 0;
   std::vector<ProfileSample> samples_;
   size_t scheduled_samples_ = 0;
+  bool reports_ = true;  // into the summary (the finest level's)
 };
 
 }  // namespace poresph

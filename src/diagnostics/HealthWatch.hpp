@@ -7,24 +7,14 @@
 // earlier levels and what a checkpoint had seen before a restart.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "diagnostics/Observer.hpp"
+#include "diagnostics/StageSetting.hpp"
 
 namespace poresph {
 
-struct HealthRecord {
-  double max_density_variation = 0, max_density_drift = 0;
-  long long particles_inside_grains = 0;
-  double max_grain_penetration = 0;  // in particle spacings
-  long long grain_surface_corrections = 0;
-  double max_corrected_depth = 0;    // in particle spacings
-
-  static HealthRecord from(const RunState& s) {
-    return {s.max_density_variation, s.max_density_drift, static_cast<long long>(s.particles_inside_grains),
-            s.max_grain_penetration, static_cast<long long>(s.grain_surface_corrections), s.max_corrected_depth};
-  }
-};
-
+// HealthRecord, what it has seen: diagnostics/Observer.hpp.
 template <class Sim>
 class HealthWatch : public Observer<Sim> {
  public:
@@ -32,6 +22,11 @@ class HealthWatch : public Observer<Sim> {
   HealthWatch(const Sim& sim, const HealthRecord& earlier, long long check_interval)
       : sim_(sim), earlier_(earlier), record_(earlier), scheduled_(earlier), interval_(check_interval),
         spacing_(sim.scene().particle_spacing) {}
+
+  // Every stage has one.
+  static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
+    return std::make_unique<HealthWatch>(s.sim, s.earlier_health, s.check_interval);
+  }
 
   void after_step(Sim& sim) override {
     if (sim.steps() % interval_ != 0) return;
@@ -57,6 +52,8 @@ class HealthWatch : public Observer<Sim> {
     r.max_corrected_depth = std::max(earlier_.max_corrected_depth, corrected.max_depth / spacing_);
     return r;
   }
+
+  void report(StageObservations& o) const override { o.health = record(); }
 
   // The checks as of the last scheduled one (the end of a run adds one that
   // a run continued past the end does not make), and the corrections so far.

@@ -1,27 +1,89 @@
 #pragma once
-// What watches a run's time loop (app/LevelRun.hpp): after every step each
-// observer does its part (a probe samples, a writer writes, a checkpoint is
-// taken), one may ask the loop to stop (the steady-state stop), each says
-// what it has done at the end, and each saves where it stands into a
-// checkpoint so that a restart goes on from there. Sim is the simulation
-// type (app/Simulation.hpp), a parameter so that the observers depend on
-// what they use of it, not on the app layer.
+// What watches a stage's time loop (app/StageLoop.hpp): after every step
+// each observer does its part (a probe samples, a writer writes, a
+// checkpoint is taken), one may ask the loop to stop (the steady-state
+// stop), each says what it has done at the end, saves where it stands into
+// a checkpoint so that a restart goes on from there, and reports what it
+// measured into the stage's observations, which summary.json is made of.
+// Sim is the simulation type (app/Simulation.hpp), a parameter so that the
+// observers depend on what they use of it, not on the app layer.
+//
+// Observers are made by a factory (diagnostics/StageSetting.hpp): each
+// observer has a static make(setting), which returns none when the stage
+// does not need it, and one line in app/StageObservers.hpp lists it.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "diagnostics/ChannelFlow.hpp"
 #include "io/RunState.hpp"
 
 namespace poresph {
+
+// The state of the fluid over a run, as the health watch has seen it
+// (diagnostics/HealthWatch.hpp).
+struct HealthRecord {
+  double max_density_variation = 0, max_density_drift = 0;
+  long long particles_inside_grains = 0;
+  double max_grain_penetration = 0;  // in particle spacings
+  long long grain_surface_corrections = 0;
+  double max_corrected_depth = 0;    // in particle spacings
+
+  static HealthRecord from(const RunState& s) {
+    return {s.max_density_variation, s.max_density_drift, static_cast<long long>(s.particles_inside_grains),
+            s.max_grain_penetration, static_cast<long long>(s.grain_surface_corrections), s.max_corrected_depth};
+  }
+};
+
+// What a stage's observers measured, however the stage ended: what each
+// reports of itself (Observer::report), for the stage's record and summary.json.
+struct StageObservations {
+  HealthRecord health;
+  // The channel's start-up profiles against the series solution.
+  bool channel = false;
+  double profile_error = 0;
+  std::vector<ProfileSample> profile_samples;
+  // The permeability along the driven axis, as of the last check.
+  bool has_permeability = false;
+  double k[3] = {0, 0, 0}, u[3] = {0, 0, 0};  // k_i = nu <u_i> / |F|, and the superficial velocity
+  bool steady = false;
+  double relative_change = 0, remaining_change = 0;
+};
+
+// Where a run stands, for the progress line (io/ProgressLine.hpp).
+struct ProgressStatus {
+  long long step = 0;
+  double time = 0;               // simulated (s)
+  double fraction_of_end = 0;    // of the steps to End Time (or Max Steps)
+  bool has_permeability = false;
+  double permeability = 0;       // m^2, along the drive
+  double remaining_change = INFINITY;  // predicted relative change still to come
+  double steady_time = NAN;      // simulated time of the predicted steady stop; NaN if unknown
+};
 
 template <class Sim>
 class Observer {
  public:
   virtual ~Observer() = default;
+  // A writer writes after every probe has measured (the steady stop comes between).
+  virtual bool writes() const { return false; }
   // After every step of the loop.
   virtual void after_step(Sim& sim) { (void)sim; }
   // Whether the loop may stop after this step.
   virtual bool wants_stop() const { return false; }
   // After the loop, when it ended by itself (End Time, Max Steps, steady).
   virtual void at_end(Sim& sim) { (void)sim; }
+  // The loop is ending (by itself, a failure, a signal, an error): what it
+  // shows on a terminal ends before other output.
+  virtual void end_display() {}
   // Where it stands, for a checkpoint.
   virtual void save(RunState& state) const { (void)state; }
+  // What it measured, into the stage's observations.
+  virtual void report(StageObservations& observations) const { (void)observations; }
+  // Where the run stands as it sees it, for the progress line.
+  virtual void status(ProgressStatus& status) const { (void)status; }
+  // A line of progress from a loop without steps (a steady solve).
+  virtual void show(const std::string& text) { (void)text; }
 };
 
 }  // namespace poresph

@@ -2,11 +2,14 @@
 // The permeability of a run driven along one axis, sampled every
 // check_interval steps and at the end (diagnostics/PermeabilityMonitor.hpp),
 // written to permeability_history*.csv (rank 0), and the steady-state stop.
+#include <cmath>
+#include <memory>
 #include <sstream>
 #include <string>
 
 #include "diagnostics/Observer.hpp"
 #include "diagnostics/PermeabilityMonitor.hpp"
+#include "diagnostics/StageSetting.hpp"
 #include "io/HistoryFile.hpp"
 
 namespace poresph {
@@ -20,7 +23,7 @@ class PermeabilityProbe : public Observer<Sim> {
   PermeabilityProbe(const Sim& sim, PermeabilityMonitor<Dim> monitor, int axis, long long check_interval,
                     bool stop_when_steady, const std::string& csv_path, bool continuing, long long rows_before,
                     const RunState* restored)
-      : monitor_(std::move(monitor)), interval_(check_interval), stop_when_steady_(stop_when_steady),
+      : monitor_(std::move(monitor)), axis_(axis), interval_(check_interval), stop_when_steady_(stop_when_steady),
         rows_(rows_before), scheduled_rows_(rows_before), scheduled_(monitor_.detector()) {
     if (restored) {
       monitor_.detector().restore(restored->steady_first_time, restored->steady_times, restored->steady_values);
@@ -33,6 +36,21 @@ class PermeabilityProbe : public Observer<Sim> {
       history_.open(csv_path, header.str(), continuing, rows_before);
       history_.file().precision(10);
     }
+  }
+
+  // A viscous scene driven along one axis. A warm start excites the slowest
+  // acoustic mode: judged over its period.
+  static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
+    const SceneConfig& scene = s.scene;
+    if (s.force_axis < 0 || !(scene.kinematic_viscosity > 0)) return nullptr;
+    double force = 0;
+    for (int d = 0; d < Dim; ++d) force += scene.body_force[d] * scene.body_force[d];
+    PermeabilityMonitor<Dim> monitor(s.force_axis, scene.kinematic_viscosity, std::sqrt(force), s.porosity,
+                                     s.acoustic_time, scene.steady_window, scene.steady_tolerance, s.warm_started);
+    return std::make_unique<PermeabilityProbe>(
+        s.sim, std::move(monitor), s.force_axis, s.check_interval, scene.steady_tolerance > 0,
+        s.output_dir + "/permeability_history" + s.suffix + ".csv", s.continuing,
+        s.continuing ? static_cast<long long>(s.restored->history_rows) : 0, s.restored);
   }
 
   void after_step(Sim& sim) override {
@@ -55,6 +73,23 @@ class PermeabilityProbe : public Observer<Sim> {
   const PermeabilityMonitor<Dim>& monitor() const { return monitor_; }
   bool stops_when_steady() const { return stop_when_steady_; }
 
+  // k as of the last check (none yet: nothing).
+  void report(StageObservations& o) const override {
+    if (!monitor_.measured()) return;
+    o.has_permeability = true;
+    for (int i = 0; i < Dim; ++i) o.k[i] = monitor_.permeability(i), o.u[i] = monitor_.superficial_velocity()[i];
+    o.steady = monitor_.steady();
+    o.relative_change = monitor_.detector().relative_change();
+    o.remaining_change = monitor_.detector().remaining_change();
+  }
+  void status(ProgressStatus& s) const override {
+    if (!monitor_.measured()) return;
+    s.has_permeability = true;
+    s.permeability = monitor_.permeability(axis_);
+    s.remaining_change = monitor_.detector().remaining_change();
+    if (stop_when_steady_) s.steady_time = monitor_.detector().predicted_steady_time();
+  }
+
  private:
   // A check at a step already checked (the end of a run on a checking step)
   // samples k again but writes no second row.
@@ -67,6 +102,7 @@ class PermeabilityProbe : public Observer<Sim> {
   }
 
   PermeabilityMonitor<Dim> monitor_;
+  int axis_;
   long long interval_;
   bool stop_when_steady_;
   HistoryFile history_;

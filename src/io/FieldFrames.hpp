@@ -4,9 +4,11 @@
 // loop. A restart goes on with the frames its checkpoint lists, and writes
 // the next one where the run would have written it had it not stopped.
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "diagnostics/Observer.hpp"
+#include "diagnostics/StageSetting.hpp"
 #include "io/FieldWriter.hpp"
 
 namespace poresph {
@@ -33,6 +35,12 @@ class FieldFrames : public Observer<Sim> {
                        ? restored->next_field_time
                        : (std::floor(sim.time() / interval_ + 0.5) + 1) * interval_;
   }
+
+  // Every stage has one (Output/Field Interval = 0 writes nothing).
+  static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
+    return std::make_unique<FieldFrames>(s.sim, s.output_dir, s.suffix, s.restored, s.continuing);
+  }
+  bool writes() const override { return true; }
 
   void after_step(Sim& sim) override {
     if (sim.time() < next_time_ - 0.5 * sim.time_step()) return;

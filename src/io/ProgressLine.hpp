@@ -5,24 +5,16 @@
 // change, and the wall time to the predicted steady stop: a percentage of
 // End Time would say 0.3 % for a run that is nearly done.
 #include <chrono>
-#include <functional>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "diagnostics/Observer.hpp"
+#include "diagnostics/StageSetting.hpp"
 
 namespace poresph {
-
-struct ProgressStatus {
-  long long step = 0;
-  double time = 0;               // simulated (s)
-  double fraction_of_end = 0;    // of the steps to End Time (or Max Steps)
-  bool has_permeability = false;
-  double permeability = 0;       // m^2, along the drive
-  double remaining_change = INFINITY;  // predicted relative change still to come
-  double steady_time = NAN;      // simulated time of the predicted steady stop; NaN if unknown
-};
 
 class ProgressLine {
  public:
@@ -87,6 +79,12 @@ class ProgressObserver : public Observer<Sim> {
   ProgressObserver(bool enabled, std::string label, long long last_step, std::function<ProgressStatus()> status)
       : line_(enabled), enabled_(enabled), label_(std::move(label)), last_step_(last_step), status_(std::move(status)) {}
 
+  // Every stage has one (shown or not: Run/Progress).
+  static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
+    return std::make_unique<ProgressObserver>(s.show_progress, s.progress_label, s.last_step, s.progress_status);
+  }
+  bool writes() const override { return true; }
+
   void after_step(Sim& sim) override {
     if (!enabled_) return;
     ProgressStatus s = status_ ? status_() : ProgressStatus{};
@@ -97,11 +95,11 @@ class ProgressObserver : public Observer<Sim> {
   }
   void at_end(Sim&) override { line_.finish(); }
   // A steady solve's own line (it has no steps).
-  void show(const std::string& text) {
+  void show(const std::string& text) override {
     if (enabled_) line_.update_text(label_, text);
   }
   // Ends the line before other output (a failure, a signal).
-  void finish() { line_.finish(); }
+  void end_display() override { line_.finish(); }
 
  private:
   ProgressLine line_;

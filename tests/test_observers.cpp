@@ -1,0 +1,101 @@
+// The observers a stage's loop is given (app/StageObservers.hpp): which of
+// them a scene gets, probes before writers, and what they report into the
+// stage's observations.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Scenes.hpp"
+#include "TestSpaces.hpp"
+#include "app/Simulation.hpp"
+#include "app/StageObservers.hpp"
+
+namespace poresph {
+namespace {
+
+template <class Space>
+class ObserverFactoryTest : public ::testing::Test {};
+TYPED_TEST_SUITE(ObserverFactoryTest, testing::ExecutionSpaces);
+
+template <class Sim>
+struct Made {
+  std::vector<std::unique_ptr<Observer<Sim>>> observers;
+  int probes = 0, writers = 0;
+  bool writer_before_probe = false;
+};
+
+// Every maker of the list on one setting, as StageLoop calls them.
+template <class Sim>
+Made<Sim> make_all(const StageSetting<Sim>& setting) {
+  Made<Sim> made;
+  for (const auto make : stage_observers<2, Sim>()) {
+    auto observer = make(setting);
+    if (!observer) continue;
+    if (observer->writes()) ++made.writers;
+    else made.writer_before_probe = made.writer_before_probe || made.writers > 0, ++made.probes;
+    made.observers.push_back(std::move(observer));
+  }
+  return made;
+}
+
+template <class Sim>
+StageSetting<Sim> setting_of(Sim& sim, const SceneConfig& scene, const std::string& dir, bool steady_solve) {
+  int axis = -1;
+  for (int d = 0; d < 2; ++d)
+    if (scene.body_force[d] != 0) axis = d;
+  return StageSetting<Sim>{sim,  scene, dir,   "",  nullptr, false,  true, false, steady_solve, axis, -1, 10, 1.0, 1.0,
+                           HealthRecord{}, [](bool) {}, false, "", 1000, []() { return ProgressStatus{}; }};
+}
+
+// A channel marched: the profile probe, the health watch and the
+// permeability probe, then three writers; a channel solved for its steady
+// state: no profile probe (it has no start-up flow to compare).
+TYPED_TEST(ObserverFactoryTest, AChannelGetsItsProbesAndWriters) {
+  using Sim = Simulation<2, TypeParam>;
+  const std::string dir = ::testing::TempDir() + "/poresph_observers";
+  std::filesystem::create_directories(dir);
+  SceneConfig scene = testing::channel(10);
+  scene.body_force = {1e-4, 0, 0};
+  scene.profile_sample_times = {0.5};
+  Sim sim(scene);
+  const auto marched = make_all(setting_of(sim, scene, dir, false));
+  EXPECT_EQ(marched.probes, 3);
+  EXPECT_EQ(marched.writers, 3);
+  EXPECT_FALSE(marched.writer_before_probe) << "probes run before writers";
+  const auto solved = make_all(setting_of(sim, scene, dir, true));
+  EXPECT_EQ(solved.probes, 2);
+
+  // What they report: the channel's profiles and k once sampled.
+  for (auto& o : marched.observers) o->at_end(sim);
+  StageObservations observed;
+  for (const auto& o : marched.observers) o->report(observed);
+  EXPECT_TRUE(observed.channel);
+  EXPECT_EQ(observed.profile_samples.size(), 1u) << "the end's sample";
+  EXPECT_TRUE(observed.has_permeability);
+  ProgressStatus status;
+  for (const auto& o : marched.observers) o->status(status);
+  EXPECT_TRUE(status.has_permeability);
+  std::filesystem::remove_all(dir);
+}
+
+// A scene without a single driven axis measures no k: no permeability probe.
+TYPED_TEST(ObserverFactoryTest, NoForceNoPermeabilityProbe) {
+  using Sim = Simulation<2, TypeParam>;
+  const std::string dir = ::testing::TempDir() + "/poresph_observers_box";
+  std::filesystem::create_directories(dir);
+  SceneConfig scene = testing::periodic_box(2, 10);
+  Sim sim(scene);
+  const auto made = make_all(setting_of(sim, scene, dir, false));
+  EXPECT_EQ(made.probes, 1) << "the health watch only";
+  StageObservations observed;
+  for (const auto& o : made.observers) o->report(observed);
+  EXPECT_FALSE(observed.has_permeability);
+  EXPECT_FALSE(observed.channel);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace poresph
