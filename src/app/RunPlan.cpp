@@ -84,9 +84,7 @@ std::vector<Stage> plan_run(const SceneConfig& scene) {
 SceneConfig stage_scene(const SceneConfig& scene, const Stage& stage) {
   SceneConfig s = scene;
   s.particle_spacing = stage.spacing;
-  double force = 0;
-  for (int d = 0; d < scene.dimension; ++d) force += scene.body_force[d] * scene.body_force[d];
-  force = std::sqrt(force);
+  const double force = body_force_magnitude(scene);
   if (stage.drive_axis >= 0) {
     s.body_force = {0, 0, 0};
     s.body_force[stage.drive_axis] = force;

@@ -225,7 +225,7 @@ class StageLoop {
     auto seconds = [&]() { return std::chrono::duration<double>(Clock::now() - loop_start).count(); };
     if (sim.communicator().any(stop_signal_pending())) stop_for(stop_signal_received(), seconds(), first_step);
     const double tolerance = scene_.solver.tolerance;
-    const double force = force_magnitude(scene_);
+    const double force = body_force_magnitude(scene_);
     auto show = [&](const SteadyProgress& s) {
       // Done, as a fraction of the decades of residual from the start to the tolerance.
       const double expected = s.residual * (s.linear_residual > 0 ? s.linear_residual : 1.0);
@@ -379,7 +379,7 @@ class StageLoop {
       r.solver_solve_seconds = solve.solve_seconds;
       r.solver_bytes_per_particle = solve.bytes_per_particle;
     }
-    const double force = force_magnitude(scene_);
+    const double force = body_force_magnitude(scene_);
     if (steady_report_ && measures_permeability() && force > 0) {
       // The solved state's own k: no pseudo-time, so no span to judge it over.
       r.has_permeability = true;
@@ -403,12 +403,6 @@ class StageLoop {
     const long long since = sim_->neighbour_rebuilds();
     if (!resume_) return since;
     return static_cast<long long>(resume_->state.neighbour_rebuilds) + std::max(since - 1, 0LL);
-  }
-
-  static double force_magnitude(const SceneConfig& scene) {
-    double force = 0;
-    for (int d = 0; d < Dim; ++d) force += scene.body_force[d] * scene.body_force[d];
-    return std::sqrt(force);
   }
 
   // The one axis a body force points along, or -1 if it has several components.

@@ -2,7 +2,6 @@
 // The permeability of a run driven along one axis, sampled every
 // check_interval steps and at the end (diagnostics/PermeabilityMonitor.hpp),
 // written to permeability_history*.csv (rank 0), and the steady-state stop.
-#include <cmath>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -43,9 +42,7 @@ class PermeabilityProbe : public Observer<Sim> {
   static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
     const SceneConfig& scene = s.scene;
     if (s.force_axis < 0 || !(scene.kinematic_viscosity > 0)) return nullptr;
-    double force = 0;
-    for (int d = 0; d < Dim; ++d) force += scene.body_force[d] * scene.body_force[d];
-    PermeabilityMonitor<Dim> monitor(s.force_axis, scene.kinematic_viscosity, std::sqrt(force), s.porosity,
+    PermeabilityMonitor<Dim> monitor(s.force_axis, scene.kinematic_viscosity, body_force_magnitude(scene), s.porosity,
                                      s.acoustic_time, scene.steady_window, scene.steady_tolerance, s.warm_started);
     return std::make_unique<PermeabilityProbe>(
         s.sim, std::move(monitor), s.force_axis, s.check_interval, scene.steady_tolerance > 0,

@@ -4,6 +4,7 @@
 // geometry, physics and app layers read (hence its own folder, below them
 // all but core).
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -155,5 +156,12 @@ struct SceneConfig {
   bool steady_solver = false;
   SteadyOptions solver;
 };
+
+// |F|, the body force's magnitude.
+inline double body_force_magnitude(const SceneConfig& scene) {
+  double sum = 0;
+  for (int d = 0; d < scene.dimension; ++d) sum += scene.body_force[d] * scene.body_force[d];
+  return std::sqrt(sum);
+}
 
 }  // namespace poresph
