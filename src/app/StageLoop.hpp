@@ -20,10 +20,10 @@
 #include "app/Run.hpp"
 #include "app/RunPlan.hpp"
 #include "app/SceneCheck.hpp"
-#include "app/StageRecord.hpp"
 #include "app/Simulation.hpp"
-#include "core/ExecutionSpaces.hpp"
 #include "app/StageObservers.hpp"
+#include "app/StageRecord.hpp"
+#include "core/ExecutionSpaces.hpp"
 #include "io/Checkpoint.hpp"
 #include "io/OutputDirectory.hpp"
 #include "io/ParticlesCsv.hpp"
@@ -185,9 +185,8 @@ class StageLoop {
   void end_display() {
     for (const auto& o : observers_) o->end_display();
   }
-  // Whether the stage measures k: a viscous scene driven along one axis
-  // (then it has a permeability probe).
-  bool measures_permeability() const { return axis_ >= 0 && scene_.kinematic_viscosity > 0; }
+  // Whether the stage measures k (has a permeability probe).
+  bool measures_permeability() const { return PermeabilityProbe<Dim, Sim>::measures(scene_, axis_); }
 
   void write_checkpoint_now(bool rates_valid) {
     RunState state;

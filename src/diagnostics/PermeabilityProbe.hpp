@@ -37,11 +37,14 @@ class PermeabilityProbe : public Observer<Sim> {
     }
   }
 
-  // A viscous scene driven along one axis. A warm start excites the slowest
-  // acoustic mode: judged over its period.
+  // Whether a stage has one: a viscous scene driven along one axis.
+  static bool measures(const SceneConfig& scene, int force_axis) {
+    return force_axis >= 0 && scene.kinematic_viscosity > 0;
+  }
+  // A warm start excites the slowest acoustic mode: judged over its period.
   static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
     const SceneConfig& scene = s.scene;
-    if (s.force_axis < 0 || !(scene.kinematic_viscosity > 0)) return nullptr;
+    if (!measures(scene, s.force_axis)) return nullptr;
     PermeabilityMonitor<Dim> monitor(s.force_axis, scene.kinematic_viscosity, body_force_magnitude(scene), s.porosity,
                                      s.acoustic_time, scene.steady_window, scene.steady_tolerance, s.warm_started);
     return std::make_unique<PermeabilityProbe>(
