@@ -77,8 +77,8 @@ class SteadySolver {
   // progress: told after every linear iteration and Newton step.
   SteadySolver(typename System::Sim& sim, const ExecSpace& space, const SteadyOptions& options,
                std::function<bool()> should_stop, std::function<void(const SteadyProgress&)> progress)
-      : sim_(sim), space_(space), options_(options), should_stop_(std::move(should_stop)),
-        progress_(std::move(progress)) {}
+      : sim_(sim), space_(space), vectors_{space, sim.communicator()}, options_(options),
+        should_stop_(std::move(should_stop)), progress_(std::move(progress)) {}
 
   SteadyReport solve() {
     SteadyReport report;
@@ -382,13 +382,7 @@ class SteadySolver {
       return;
     }
     wide_.apply(in, out);
-    scale(out, 1.0 / wide_scale_);
-  }
-  void scale(const View& x, double factor) const {
-    static const std::string label = "poresph::steady::scale";
-    Kokkos::parallel_for(
-        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, x.extent(0)), KOKKOS_LAMBDA(int i) { x(i) *= factor; });
-    space_.fence();
+    vectors_.update(0.0, out, 1.0 / wide_scale_, out);
   }
   void precondition_velocity(const View& in, const View& out) const {
     if (!compact_.available() || compact_scale_ == 0) {
@@ -402,7 +396,7 @@ class SteadySolver {
       compact_.apply(work_q_component_in_, work_q_component_out_);
       to_component(work_q_component_out_, out, d);
     }
-    scale(out, 1.0 / compact_scale_);
+    vectors_.update(0.0, out, 1.0 / compact_scale_, out);
   }
 
   // out = D Q^-1 G q
@@ -491,6 +485,7 @@ class SteadySolver {
 
   typename System::Sim& sim_;
   ExecSpace space_;
+  KrylovVectors<ExecSpace> vectors_;  // for the preconditioners, which have no system at hand
   SteadyOptions options_;
   std::function<bool()> should_stop_;
   std::function<void(const SteadyProgress&)> progress_;
