@@ -12,6 +12,7 @@
 #include "geometry/Grains.hpp"
 #include "solver/Fgmres.hpp"
 #include "solver/LatticeMultigrid.hpp"
+#include "solver/LatticePreconditioner.hpp"
 #include "solver/SteadySolver.hpp"
 #include "solver/SteadySystem.hpp"
 
@@ -190,9 +191,82 @@ TYPED_TEST(SteadySolverTest, LatticeMultigridConvergesAtEverySize) {
     }
     const double rate = std::pow(norm / start, 1.0 / 9);
     rates.push_back(rate);
-    EXPECT_LT(rate, 0.6) << n << " a side";  // 0.55, 0.49, 0.47 measured
+    EXPECT_LT(rate, 0.5) << n << " a side";  // 0.43, 0.42, 0.43 measured
   }
   EXPECT_LT(rates.back(), rates.front() + 0.05);
+}
+
+// A V-cycle starts from zero whatever the cycle before it left: the same
+// right-hand side gives the same x to the last bit after another one.
+TYPED_TEST(SteadySolverTest, LatticeMultigridCycleIsAFixedOperator) {
+  using Space = TypeParam;
+  using V = Kokkos::View<double*, typename Space::memory_space>;
+  const int n = 16;
+  std::vector<char> active(n * n);
+  for (int k = 0; k < n * n; ++k) active[k] = std::hypot(k % n + 0.5 - n / 2.0, k / n + 0.5 - n / 2.0) > 4;
+  LatticeMultigrid<2, Space> multigrid(Space(), {n, n}, active);
+  V b("b", n * n), c("c", n * n), first("first", n * n), other("other", n * n), second("second", n * n);
+  auto hb = Kokkos::create_mirror_view(b);
+  auto hc = Kokkos::create_mirror_view(c);
+  for (int k = 0; k < n * n; ++k) hb(k) = active[k] ? std::sin(0.37 * k) : 0.0, hc(k) = active[k] ? 1.0 : 0.0;
+  Kokkos::deep_copy(b, hb);
+  Kokkos::deep_copy(c, hc);
+  multigrid.cycle(b, first);
+  multigrid.cycle(c, other);
+  multigrid.cycle(b, second);
+  auto h1 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), first);
+  auto h2 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), second);
+  for (int k = 0; k < n * n; ++k) ASSERT_EQ(h1(k), h2(k)) << k;
+}
+
+// The wide lattice preconditioner's pattern weights (stride 2, 64 x 64
+// points around a disc): on sign pattern m of the lattice times a smooth
+// mode, its response grows by nearly the pattern's weight, each pattern by
+// its own (the post-smoothing takes back a little: 0.87 to 0.92 of the
+// weight measured, and the disc mixes the patterns slightly: pattern 0,
+// weight 1, grows by 1.002; a pattern sent to the wrong sub-lattices, or a
+// transform that is not normalised, fails); weights of 1 change nothing.
+TYPED_TEST(SteadySolverTest, PatternWeightsScaleTheSmoothPartOfEachPattern) {
+  using Space = TypeParam;
+  using V = Kokkos::View<double*, typename Space::memory_space>;
+  const int n = 64;
+  const double dx = 1.0 / n;
+  Kokkos::View<double* [2], typename Space::memory_space> x("x", n * n);
+  V fluid("fluid", n * n);
+  auto hx = Kokkos::create_mirror_view(x);
+  auto hf = Kokkos::create_mirror_view(fluid);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      hx(i + n * j, 0) = (i + 0.5) * dx, hx(i + n * j, 1) = (j + 0.5) * dx;
+      hf(i + n * j) = std::hypot(i + 0.5 - n / 2.0, j + 0.5 - n / 2.0) > 0.2 * n ? 1.0 : 0.0;
+    }
+  Kokkos::deep_copy(x, hx);
+  Kokkos::deep_copy(fluid, hf);
+  LatticePreconditioner<2, Space> wide(Space(), Communicator(), x, fluid, n * n, {n, n}, dx, 2);
+  ASSERT_EQ(wide.patterns(), 4);
+  KrylovVectors<Space> ops{Space(), Communicator()};
+  const std::vector<double> weights{1.0, 2.0, 3.0, 5.0};
+  V r("r", n * n), plain("plain", n * n), weighed("weighed", n * n);
+  for (int m = 0; m < 4; ++m) {
+    auto hr = Kokkos::create_mirror_view(r);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int parity = ((m >> wide.pattern_bit(0)) & 1) * i + ((m >> wide.pattern_bit(1)) & 1) * j;
+        hr(i + n * j) = hf(i + n * j) * (parity % 2 ? -1.0 : 1.0) * std::cos(2 * M_PI * (i + 0.5) / n);
+      }
+    Kokkos::deep_copy(r, hr);
+    wide.set_pattern_weights({});
+    wide.apply(r, plain);
+    wide.set_pattern_weights({1.0, 1.0, 1.0, 1.0});
+    wide.apply(r, weighed);
+    ops.update(1.0, plain, -1.0, weighed);
+    EXPECT_LT(ops.norm(weighed), 1e-13 * ops.norm(plain)) << "pattern " << m;
+    wide.set_pattern_weights(weights);
+    wide.apply(r, weighed);
+    const double growth = ops.dot(r, weighed) / ops.dot(r, plain);
+    EXPECT_GT(growth, 0.8 * weights[m]) << "pattern " << m;
+    EXPECT_LT(growth, 1.01 * weights[m]) << "pattern " << m;
+  }
 }
 
 // The steady solve of the disc cell is the time loop's steady state: k to

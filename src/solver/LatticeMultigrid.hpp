@@ -57,11 +57,30 @@ class LatticeMultigrid {
   int levels() const { return static_cast<int>(levels_.size()); }
 
   // x = one V(2,2) cycle for L x = b from x = 0 (symmetric Gauss-Seidel by
-  // colours), b and x over all points of the finest lattice.
+  // colours), b and x over all points of the finest lattice: a fixed linear
+  // operator, whatever the cycle before it left.
   void cycle(const View& b, const View& x) const {
-    Kokkos::deep_copy(space_, x, 0.0);
+    cycle_down(b);
+    cycle_up(x);
+  }
+
+  // The same cycle in two halves, for several multigrids on lattices of one
+  // shape that change their coarse corrections together: cycle_down(b) runs
+  // the cycle to the correction of the second level, coarse_correction()
+  // (empty with one level) may then be changed, cycle_up(x) finishes.
+  void cycle_down(const View& b) const {
+    Kokkos::deep_copy(space_, levels_[0].x, 0.0);
     Kokkos::deep_copy(space_, levels_[0].b, b);
-    cycle_from(0);
+    if (levels_.size() == 1) {
+      cycle_from(0);
+      return;
+    }
+    descend(0);
+    cycle_from(1);
+  }
+  View coarse_correction() const { return levels_.size() > 1 ? levels_[1].x : View(); }
+  void cycle_up(const View& x) const {
+    if (levels_.size() > 1) ascend(0);
     Kokkos::deep_copy(space_, x, levels_[0].x);
     space_.fence();
   }
@@ -225,6 +244,15 @@ class LatticeMultigrid {
       for (int sweep = 0; sweep < 50; ++sweep) smooth(level, sweep % 2 == 0);
       return;
     }
+    descend(l);
+    cycle_from(l + 1);
+    ascend(l);
+  }
+
+  // Pre-smoothing on level l and the coarse right-hand side on level l + 1
+  // (the aggregate's sum of residuals), the coarse x set to 0.
+  void descend(size_t l) const {
+    const Level& level = levels_[l];
     smooth(level, true);
     smooth(level, true);
     apply_level(level, level.x, level.r);
@@ -235,8 +263,7 @@ class LatticeMultigrid {
     Kokkos::deep_copy(space_, cb, 0.0);
     Kokkos::deep_copy(space_, cx, 0.0);
     space_.fence();
-    // Restriction: the aggregate's sum of residuals. Serial in the
-    // aggregate (several fine points add to one coarse one).
+    // Serial in the aggregate (several fine points add to one coarse one).
     static const std::string label_restrict = "poresph::multigrid::restrict";
     Kokkos::parallel_for(
         label_restrict, Kokkos::RangePolicy<ExecSpace>(space_, 0, coarse.size), KOKKOS_LAMBDA(long long I) {
@@ -256,8 +283,15 @@ class LatticeMultigrid {
           cb(I) = sum;
         });
     space_.fence();
-    cycle_from(l + 1);
-    const auto x = level.x;
+  }
+
+  // The coarse correction of level l + 1 added to level l's x (piecewise
+  // constant), and post-smoothing.
+  void ascend(size_t l) const {
+    const Level& level = levels_[l];
+    const Level& coarse = levels_[l + 1];
+    const auto diag = level.diag, x = level.x, cx = coarse.x;
+    const auto fine_shape = level.shape, coarse_shape = coarse.shape;
     static const std::string label_prolong = "poresph::multigrid::prolong";
     Kokkos::parallel_for(
         label_prolong, Kokkos::RangePolicy<ExecSpace>(space_, 0, level.size), KOKKOS_LAMBDA(long long i) {

@@ -64,6 +64,7 @@ class LatticePreconditioner {
     for (int d = 0; d < Dim; ++d) {
       split[d] = stride == 2 && lattice[d] % 2 == 0;
       shape[d] = split[d] ? lattice[d] / 2 : lattice[d];
+      pattern_bit_[d] = split[d] ? pattern_bits_++ : -1;
       if (split[d]) lattices *= 2;
     }
     long long points = 1;
@@ -100,6 +101,23 @@ class LatticePreconditioner {
   }
 
   bool available() const { return !multigrid_.empty(); }
+
+  // Sign patterns: with stride 2, pattern m (bits over the split axes, in
+  // axis order) is (-1)^(m . c) at lattice coordinate c; it is constant on
+  // each sub-lattice, so every point of a block of 2^bits points (one per
+  // sub-lattice, the same point of each) sees the pattern's Walsh function
+  // of its sub-lattice index. pattern_bit(d): axis d's bit, or -1.
+  int patterns() const { return 1 << pattern_bits_; }
+  int pattern_bit(int axis) const { return pattern_bit_[axis]; }
+  // Weights w_m of the patterns' smooth parts: the sub-lattices' cycles
+  // meet at their second level, where a point is the same block of 4^Dim
+  // lattice points on every sub-lattice, and pattern m's part of the coarse
+  // correction there is multiplied by w_m; the post-smoothing then takes
+  // the weight back from what is not smooth. With w_m = c_0 / c_m, c_m the
+  // operator's size against L on pattern m times a smooth mode, the cycle
+  // approximates the operator's inverse on the smooth part of every pattern,
+  // where L alone is right on the smooth modes only.
+  void set_pattern_weights(const std::vector<double>& weights) { pattern_weights_ = weights; }
   // What this process holds for it, in doubles (for the memory report): per
   // gathered value the value, its sub-lattice and point; per lattice point
   // b and z, and the multigrid's diagonal, couplings, x, b and r on every
@@ -123,10 +141,20 @@ class LatticePreconditioner {
       Kokkos::deep_copy(hb.back(), 0.0);
     }
     for (size_t k = 0; k < gathered_.size(); ++k) hb[sub_[k]](local_[k]) = gathered_[k];
-    std::vector<decltype(Kokkos::create_mirror_view(z_[0]))> hz;
     for (size_t l = 0; l < b_.size(); ++l) {
       Kokkos::deep_copy(b_[l], hb[l]);
-      multigrid_[l].cycle(b_[l], z_[l]);
+      multigrid_[l].cycle_down(b_[l]);
+    }
+    if (!pattern_weights_.empty() && multigrid_.front().coarse_correction().extent(0) > 0) {
+      std::vector<decltype(Kokkos::create_mirror_view(z_[0]))> coarse;
+      for (const auto& m : multigrid_)
+        coarse.push_back(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.coarse_correction()));
+      weigh_patterns(coarse);
+      for (size_t l = 0; l < coarse.size(); ++l) Kokkos::deep_copy(multigrid_[l].coarse_correction(), coarse[l]);
+    }
+    std::vector<decltype(Kokkos::create_mirror_view(z_[0]))> hz;
+    for (size_t l = 0; l < b_.size(); ++l) {
+      multigrid_[l].cycle_up(z_[l]);
       hz.push_back(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), z_[l]));
     }
     auto out = Kokkos::create_mirror_view(z);
@@ -136,6 +164,33 @@ class LatticePreconditioner {
   }
 
  private:
+  // Per point (a block of the lattice): the Walsh-Hadamard transform of its
+  // 2^bits values (one per sub-lattice) gives 2^bits times the pattern
+  // amplitudes; scale amplitude m by w_m and transform back (the transform
+  // is its own inverse up to 2^bits).
+  template <class Values>
+  void weigh_patterns(std::vector<Values>& values) const {
+    if (pattern_weights_.empty()) return;
+    const int n = patterns();
+    const long long points = static_cast<long long>(values.front().extent(0));
+    std::vector<double> v(n);
+    auto transform = [&]() {
+      for (int half = 1; half < n; half *= 2)
+        for (int s = 0; s < n; ++s)
+          if (!(s & half)) {
+            const double a = v[s], b = v[s + half];
+            v[s] = a + b, v[s + half] = a - b;
+          }
+    };
+    for (long long p = 0; p < points; ++p) {
+      for (int s = 0; s < n; ++s) v[s] = values[s](p);
+      transform();
+      for (int m = 0; m < n; ++m) v[m] *= pattern_weights_[m] / n;
+      transform();
+      for (int s = 0; s < n; ++s) values[s](p) = v[s];
+    }
+  }
+
   ExecSpace space_;
   Communicator comm_;
   std::vector<int> own_;           // owned fluid particles, in the order gathered
@@ -146,6 +201,9 @@ class LatticePreconditioner {
   std::vector<LatticeMultigrid<Dim, ExecSpace>> multigrid_;
   std::vector<View> b_, z_;
   mutable std::vector<double> gathered_;
+  std::array<int, Dim> pattern_bit_{};
+  int pattern_bits_ = 0;
+  std::vector<double> pattern_weights_;  // empty: all 1
 };
 
 }  // namespace poresph

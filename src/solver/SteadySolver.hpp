@@ -342,11 +342,6 @@ class SteadySolver {
         KOKKOS_LAMBDA(int i) { x(i) = fluid(i) * math::cos(6.283185307179586 * Px(i, 0) / length); });
     space_.fence();
     const double smooth = ops.dot(x, x);
-    if (wide_.available() && smooth > 0) {
-      apply_dg(system, x, y);
-      wide_.apply(y, work_q_);
-      wide_scale_ = ops.dot(x, work_q_) / smooth;
-    }
     if (compact_.available() && smooth > 0) {
       // The velocity block on the smooth mode in x (component 0).
       View sv("steady_smooth_v", nv);
@@ -356,6 +351,59 @@ class SteadySolver {
       compact_.apply(y, work_q_);
       compact_scale_ = ops.dot(x, work_q_) / smooth;
     }
+    if (wide_.available()) measure_pattern_weights(system, x, y);
+  }
+
+  // DG against the wide Laplacian L on each sign pattern m of the lattice
+  // times a smooth mode (a cosine along each axis in turn; the geometric mean
+  // over the axes, since DG near a pattern is anisotropic):
+  // c_m = x . L^-1 DG x / x . x. The SPH gradient is weaker on the patterns
+  // than on smooth fields (at the corner of the Brillouin zone by about 14 in
+  // 2D, 250 in 3D; docs/steady_solver.md), L is not, so L alone
+  // overestimates DG there by c_0 / c_m (250 and 1,600 at the corner). The
+  // preconditioner's coarse correction of pattern m is weighed by
+  // (c_0 / c_m)^(1/2): the power that measured fewest inner iterations in 2D
+  // and 3D (0.25 to 1 tried); the full ratio over-corrects the modes near the
+  // coarse level's cut-off. wide_scale_ = c_0 as before. A pattern that
+  // cannot be measured (no fluid on it) keeps the weight 1.
+  void measure_pattern_weights(System& system, const View& x, const View& y) {
+    const auto& ops = system.vectors();
+    const auto Px = sim_.particles().x;
+    const auto fluid = system.fluid_mask();
+    const double dx = sim_.scene().particle_spacing;
+    Kokkos::Array<int, Dim> bit;
+    for (int d = 0; d < Dim; ++d) bit[d] = wide_.pattern_bit(d);
+    std::vector<double> sizes(wide_.patterns(), 0.0);
+    for (int m = 0; m < wide_.patterns(); ++m) {
+      int measured = 0;
+      for (int axis = 0; axis < Dim; ++axis) {
+        const double length = sim_.scene().cell_size[axis];
+        static const std::string label = "poresph::steady::pattern_mode";
+        Kokkos::parallel_for(
+            label, Kokkos::RangePolicy<ExecSpace>(space_, 0, system.owned()), KOKKOS_LAMBDA(int i) {
+              int parity = 0;
+              for (int d = 0; d < Dim; ++d)
+                if (bit[d] >= 0 && ((m >> bit[d]) & 1)) parity += static_cast<int>(math::floor(Px(i, d) / dx));
+              const double sign = parity % 2 == 0 ? 1.0 : -1.0;
+              x(i) = fluid(i) * sign * math::cos(6.283185307179586 * Px(i, axis) / length);
+            });
+        space_.fence();
+        const double norm = ops.dot(x, x);
+        if (!(norm > 0)) continue;
+        apply_dg(system, x, y);
+        wide_.apply(y, work_q_);
+        const double size = ops.dot(x, work_q_) / norm;
+        if (!(size > 0)) continue;
+        sizes[m] += std::log(size);
+        ++measured;
+      }
+      sizes[m] = measured > 0 ? std::exp(sizes[m] / measured) : 0.0;
+    }
+    if (!(sizes[0] > 0)) return;
+    std::vector<double> weights(sizes.size());
+    for (size_t m = 0; m < sizes.size(); ++m) weights[m] = std::sqrt(sizes[0] / (sizes[m] > 0 ? sizes[m] : sizes[0]));
+    wide_.set_pattern_weights(weights);
+    wide_scale_ = sizes[0];
   }
 
   // Component d of a velocity vector (i * Dim + d) as a scalar one, and back.

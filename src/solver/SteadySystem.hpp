@@ -109,7 +109,7 @@ class SteadySystem {
       ops_.fill(out_q, 0.0);
       return;
     }
-    // A perturbation of 1 % of the velocity scale per unknown, on average.
+    // A perturbation of 1e-4 of the velocity scale per unknown, on average.
     const double n = static_cast<double>(sim_.fluid_particles()) * (Dim + 1);
     const double step = 1e-4 * velocity_scale_ * std::sqrt(n) / size;
     if (terms != RateTerms::All) {
