@@ -4,15 +4,18 @@ its own resolution, once marched to a steady k (Permeability/Steady
 Tolerance = 1e-4 unless --march-tolerance says otherwise) and once solved
 (Solver/Method = steady, the shipped defaults), one process, one thread.
 
-    perf/steady_vs_march.py [--build build] [--out build/steady-vs-march] [SCENE ...]
+    perf/steady_vs_march.py [--build build] [--out build/steady-vs-march] [--march-from CSV] [SCENE ...]
 
 SCENE: paths under input/ (default: every grain, 3D and image scene).
 Writes steady_vs_march.csv and steady_vs_march.md (a table) into --out:
 per scene the diagonal k of both runs (every driven axis of a tensor
 scene), their largest relative difference, the march's steps and wall
 seconds, the solve's iterations, evaluations and wall seconds. A solve
-that did not converge is listed as such, with the k it stopped at."""
+that did not converge is listed as such, with the k it stopped at.
+--march-from takes the march's columns from an earlier steady_vs_march.csv
+(the march does not change when the solver does) and runs the solves only."""
 import argparse
+import csv
 import os
 import subprocess
 import sys
@@ -50,11 +53,21 @@ def diagonal(summary):
     return {name: value for name, value in k.items() if len(name) == 3 and name[1] == name[2]}
 
 
-def compare(build, scene, out, march_tolerance):
+def earlier_march(row):
+    """The march's part of a summary, from a row of an earlier CSV: its k in
+    the order of the axes' names (matched to the solve's below)."""
+    return {"fluid_particles": int(row["fluid_particles"]), "steps": int(row["march_steps"]),
+            "wall_seconds": float(row["march_seconds"]), "k_in_order": [float(k) for k in row["k_march"].split()]}
+
+
+def compare(build, scene, out, march_tolerance, marched=None):
     name = scene.replace("/", "_").replace(".xml", "")
-    march = run_poresph(build, scene, os.path.join(out, name + "_march"),
-                        SERIAL + [f"Permeability/Steady Tolerance={march_tolerance}", "Run/End Time=1e12",
-                                  "Run/Max Steps=0"])
+    if marched is not None:
+        march = marched
+    else:
+        march = run_poresph(build, scene, os.path.join(out, name + "_march"),
+                            SERIAL + [f"Permeability/Steady Tolerance={march_tolerance}", "Run/End Time=1e12",
+                                      "Run/Max Steps=0"])
     solve_dir = os.path.join(out, name + "_steady")
     try:
         solve = run_poresph(build, scene, solve_dir, SERIAL + ["Solver/Method=steady"])
@@ -62,7 +75,13 @@ def compare(build, scene, out, march_tolerance):
         if error.returncode != 4:  # 4: not converged, and the summary says where it stopped
             raise
         solve = read_summary(solve_dir)
-    k_march, k_solve = diagonal(march), diagonal(solve)
+    k_solve = diagonal(solve)
+    if "k_in_order" in march:
+        if len(march["k_in_order"]) != len(k_solve):
+            sys.exit(f"{scene}: the earlier march measured {len(march['k_in_order'])} axes, the solve {len(k_solve)}")
+        k_march = dict(zip(sorted(k_solve), march["k_in_order"]))
+    else:
+        k_march = diagonal(march)
     difference = max(abs(k_solve[c] / k_march[c] - 1) for c in k_march)
     solver = solve["solver"]
     return dict(scene=scene, fluid_particles=march["fluid_particles"],
@@ -93,11 +112,18 @@ def main():
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
     parser.add_argument("--out", default=os.path.join(ROOT, "build", "steady-vs-march"))
     parser.add_argument("--march-tolerance", type=float, default=1e-4)
+    parser.add_argument("--march-from", help="an earlier steady_vs_march.csv: its marches, not run again")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
+    marches = {}
+    if args.march_from:
+        with open(args.march_from, newline="") as f:
+            marches = {row["scene"]: earlier_march(row) for row in csv.DictReader(f)}
     rows = []
     for scene in args.scenes:
-        rows.append(compare(os.path.abspath(args.build), scene, args.out, args.march_tolerance))
+        if args.march_from and scene not in marches:
+            sys.exit(f"{scene}: not in {args.march_from}")
+        rows.append(compare(os.path.abspath(args.build), scene, args.out, args.march_tolerance, marches.get(scene)))
         r = rows[-1]
         print(f"{scene}: difference {r['relative_difference'] * 100:.3f} %, march {r['march_seconds']:.1f} s, "
               f"steady {r['steady_seconds']:.1f} s{'' if r['converged'] else ' (not converged)'}", flush=True)
