@@ -113,10 +113,11 @@ class LatticePreconditioner {
   // meet at their second level, where a point is the same block of 4^Dim
   // lattice points on every sub-lattice, and pattern m's part of the coarse
   // correction there is multiplied by w_m; the post-smoothing then takes
-  // the weight back from what is not smooth. With w_m = c_0 / c_m, c_m the
-  // operator's size against L on pattern m times a smooth mode, the cycle
-  // approximates the operator's inverse on the smooth part of every pattern,
-  // where L alone is right on the smooth modes only.
+  // the weight back from what is not smooth. With c_m the operator's size
+  // against L on pattern m times a smooth mode, w_m = c_0 / c_m would make
+  // the cycle the operator's inverse on the smooth part of every pattern,
+  // where L alone is right on the smooth modes only; the steady solver takes
+  // (c_0 / c_m)^(1/2), which measured better (SteadySolver).
   void set_pattern_weights(const std::vector<double>& weights) { pattern_weights_ = weights; }
   // What this process holds for it, in doubles (for the memory report): per
   // gathered value the value, its sub-lattice and point; per lattice point

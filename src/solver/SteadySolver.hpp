@@ -358,13 +358,13 @@ class SteadySolver {
   // times a smooth mode (a cosine along each axis in turn; the geometric mean
   // over the axes, since DG near a pattern is anisotropic):
   // c_m = x . L^-1 DG x / x . x. The SPH gradient is weaker on the patterns
-  // than on smooth fields (at the corner of the Brillouin zone by about 14 in
-  // 2D, 250 in 3D; docs/steady_solver.md), L is not, so L alone
-  // overestimates DG there by c_0 / c_m (250 and 1,600 at the corner). The
-  // preconditioner's coarse correction of pattern m is weighed by
-  // (c_0 / c_m)^(1/2): the power that measured fewest inner iterations in 2D
-  // and 3D (0.25 to 1 tried); the full ratio over-corrects the modes near the
-  // coarse level's cut-off. wide_scale_ = c_0 as before. A pattern that
+  // than on smooth fields (at the corner of the Brillouin zone by about 14
+  // in 2D, 250 in 3D; docs/steady_solver.md), L is not, so L alone
+  // overestimates DG there by c_0 / c_m (measured: 140 and 1,600 at the
+  // corner). The preconditioner's coarse correction of pattern m is weighed
+  // by (c_0 / c_m)^(1/2): the power that measured fewest inner iterations in
+  // 2D and 3D (0.25 to 1 tried); the full ratio over-corrects the modes near
+  // the coarse level's cut-off. wide_scale_ = c_0 as before. A pattern that
   // cannot be measured (no fluid on it) keeps the weight 1.
   void measure_pattern_weights(System& system, const View& x, const View& y) {
     const auto& ops = system.vectors();
