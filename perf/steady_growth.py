@@ -26,7 +26,6 @@ import math
 import os
 import subprocess
 import sys
-import xml.etree.ElementTree as ElementTree
 
 from poresph_runs import ROOT, read_summary, run_poresph, write_csv  # noqa: E402
 
@@ -41,26 +40,15 @@ METHODS = {
 SERIAL = ["Run/Backend=serial", "Convergence/Levels=1"]
 
 
-def parameter(tree, sublist, name):
-    for node in tree.iter("ParameterList"):
-        if node.get("name") == sublist:
-            for p in node.findall("Parameter"):
-                if p.get("name") == name:
-                    return p.get("value")
-    return None
-
-
 def row_of(directory):
-    """The row of an output directory: its series from the scene file's
-    name, its method, its lattice and what it measured."""
-    tree = ElementTree.parse(os.path.join(directory, "parameters_used.xml"))
+    """The row of an output directory, from its summary.json: its series
+    from the scene's name, its method, its lattice and what it measured."""
     summary = read_summary(directory)
     name = summary["scene"]
     series = "problem3" if name.startswith("problem3") else "simple_cubic" if name.startswith("simple-cubic") else None
     if series is None:
         sys.exit(f"{directory}: scene {name} is in neither series")
-    method = parameter(tree, "Solver", "Method") or "explicit"
-    method = "steady" if method == "steady" else "march"
+    method = "steady" if summary["solver"]["method"] == "steady" else "march"
     side = SERIES[series][1]
     converged = summary["solver"]["converged"] if method == "steady" else summary.get("steady", False)
     return dict(series=series, method=method, points_per_side=round(side / summary["particle_spacing"]),

@@ -42,11 +42,11 @@ Made<Sim> make_all(const StageSetting<Sim>& setting) {
 }
 
 template <class Sim>
-StageSetting<Sim> setting_of(Sim& sim, const SceneConfig& scene, const std::string& dir, bool steady_solve) {
+StageSetting<Sim> setting_of(Sim& sim, const SceneConfig& scene, const std::string& dir) {
   int axis = -1;
   for (int d = 0; d < 2; ++d)
     if (scene.body_force[d] != 0) axis = d;
-  return StageSetting<Sim>{sim,  scene, dir,   "",  nullptr, false,  true, false, steady_solve, axis, -1, 10, 1.0, 1.0,
+  return StageSetting<Sim>{sim,  scene, dir,   "",  nullptr, false, true, false, axis, -1, 10, 1.0, 1.0,
                            HealthRecord{}, [](bool) {}, false, "", 1000, []() { return ProgressStatus{}; }};
 }
 
@@ -61,11 +61,13 @@ TYPED_TEST(ObserverFactoryTest, AChannelGetsItsProbesAndWriters) {
   scene.body_force = {1e-4, 0, 0};
   scene.profile_sample_times = {0.5};
   Sim sim(scene);
-  const auto marched = make_all(setting_of(sim, scene, dir, false));
+  const auto marched = make_all(setting_of(sim, scene, dir));
   EXPECT_EQ(marched.probes, 3);
   EXPECT_EQ(marched.writers, 3);
   EXPECT_FALSE(marched.writer_before_probe) << "probes run before writers";
-  const auto solved = make_all(setting_of(sim, scene, dir, true));
+  SceneConfig solved_scene = scene;
+  solved_scene.steady_solver = true;
+  const auto solved = make_all(setting_of(sim, solved_scene, dir));
   EXPECT_EQ(solved.probes, 2);
 
   // What they report: the channel's profiles and k once sampled.
@@ -88,7 +90,7 @@ TYPED_TEST(ObserverFactoryTest, NoForceNoPermeabilityProbe) {
   std::filesystem::create_directories(dir);
   SceneConfig scene = testing::periodic_box(2, 10);
   Sim sim(scene);
-  const auto made = make_all(setting_of(sim, scene, dir, false));
+  const auto made = make_all(setting_of(sim, scene, dir));
   EXPECT_EQ(made.probes, 1) << "the health watch only";
   StageObservations observed;
   for (const auto& o : made.observers) o->report(observed);

@@ -156,7 +156,6 @@ class StageLoop {
                                     continuing,
                                     stage_.finest(),
                                     warm_started_,
-                                    scene.steady_solver,
                                     axis_,
                                     stage_.drive_axis,
                                     check_interval,

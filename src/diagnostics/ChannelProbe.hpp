@@ -4,6 +4,7 @@
 // particles' own time (diagnostics/ChannelFlow.hpp); the largest error goes
 // to summary.json, the points to profiles.csv (rank 0) for plots.
 #include <Kokkos_Core.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -69,7 +70,7 @@ class ChannelProbe : public Observer<Sim> {
   // profiles go into the summary.
   static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
     const SceneConfig& scene = s.scene;
-    if (scene.walls != WallType::Channel || s.stage_axis > 0 || s.steady_solve) return nullptr;
+    if (scene.walls != WallType::Channel || s.stage_axis > 0 || scene.steady_solver) return nullptr;
     auto probe = std::make_unique<ChannelProbe>(
         s.sim, ChannelFlow{scene.cell_size[1], scene.kinematic_viscosity, scene.body_force[0],
                            scene.lower_wall_velocity, scene.upper_wall_velocity},
@@ -96,8 +97,6 @@ class ChannelProbe : public Observer<Sim> {
                                    {samples_[k].requested_time, samples_[k].time, samples_[k].error});
   }
 
-  double largest_error() const { return largest_; }
-  const std::vector<ProfileSample>& samples() const { return samples_; }
   void report(StageObservations& o) const override {
     if (!reports_) return;
     o.channel = true;

@@ -70,9 +70,6 @@ class PermeabilityProbe : public Observer<Sim> {
     state.history_rows = static_cast<double>(scheduled_rows_);
   }
 
-  const PermeabilityMonitor<Dim>& monitor() const { return monitor_; }
-  bool stops_when_steady() const { return stop_when_steady_; }
-
   // k as of the last check (none yet: nothing).
   void report(StageObservations& o) const override {
     if (!monitor_.measured()) return;

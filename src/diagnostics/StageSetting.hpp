@@ -20,7 +20,6 @@ struct StageSetting {
   bool continuing;                     // a restart in the run's own directory
   bool finest;                         // the last level of a ladder (or the only one)
   bool warm_started;                   // starts from the stage before it
-  bool steady_solve;                   // Solver/Method = steady: no time loop
   int force_axis;                      // the one axis the body force points along, or -1
   int stage_axis;                      // the axis a tensor stage drives (Stage::drive_axis), -1: the scene's force
   long long check_interval;            // steps between the probes' checks

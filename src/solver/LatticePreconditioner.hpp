@@ -171,7 +171,6 @@ class LatticePreconditioner {
   // is its own inverse up to 2^bits).
   template <class Values>
   void weigh_patterns(std::vector<Values>& values) const {
-    if (pattern_weights_.empty()) return;
     const int n = patterns();
     const long long points = static_cast<long long>(values.front().extent(0));
     std::vector<double> v(n);
