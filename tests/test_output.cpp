@@ -146,6 +146,7 @@ std::map<long long, std::vector<double>> checkpoint_state(const std::string& pat
   const auto ids = file.read_rows<long long>("id", 0, n);
   std::map<long long, std::vector<double>> state;
   for (const char* name : {"x", "v", "rho", "dvdt", "drhodt", "x_start", "v_start", "rho_start"}) {
+    if (std::string(name) == "x_start" && !file.has(name)) continue;  // fixed particles keep none
     const auto values = file.read_rows<double>(name, 0, n);
     const size_t columns = values.size() / n;
     for (long long i = 0; i < n; ++i)

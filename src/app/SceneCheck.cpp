@@ -55,19 +55,22 @@ SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   const int D = s.dimension;
   const bool surfaces = s.walls != WallType::None || s.has_solid();
   const bool shifting = s.shifting_coefficient > 0;
+  const bool fixed = s.particle_motion == ParticleMotion::Fixed;
   // x, v, x_start, v_start, dvdt; rho, p, m, pressure_term, inverse_density, rho_start, drhodt; kind; id.
-  double fields = 5.0 * D * 8 + 7 * 8 + 4 + 8;
+  // Fixed particles keep no x_start (core/Particles.hpp, fix_positions).
+  double fields = (fixed ? 4.0 : 5.0) * D * 8 + 7 * 8 + 4 + 8;
   if (surfaces) fields += (D + 2) * 8.0;  // wall_vector, wall_scalar, wall_drag
   if (shifting) fields += 2.0 * D * 8;
-  fields *= 1.25;  // Particles::reserve grows by a quarter
-  // Half of the neighbours within 3h (+ skin for moving particles), 4-byte
-  // indices grown by a quarter, plus offsets; fixed particles cache each
-  // entry's separation and kernel derivative besides, D + 1 doubles, and
-  // with surfaces a no-slip factor for each entry with a boundary end (at
-  // most one more per entry: the bound is kept).
+  if (!fixed) fields *= 1.25;  // Particles::reserve grows by a quarter for moving particles
+  // Moving particles: half of the neighbours within 3h + skin, 4-byte
+  // indices grown by a quarter, plus offsets. Fixed particles: rows as
+  // masks over the lattice's offsets within 3h (core/LatticeRows.hpp), two
+  // masks of 64-bit words, the site and its place in the map; with surfaces
+  // a no-slip factor for each fluid-boundary pair, counted here for a
+  // quarter of the pairs (all of a particle's at a surface, none inside the pore).
   const double pairs = 0.5 * neighbour_ball(s);
   double list = (pairs * 4 + 2 * 4) * 1.25;
-  if (s.particle_motion == ParticleMotion::Fixed) list += pairs * (D + 1 + (surfaces ? 1 : 0)) * 8.0;
+  if (fixed) list = 2 * 8 * std::ceil(2 * pairs / 64) + 4 + 4 + (surfaces ? pairs / 4 * 8.0 : 0.0);
   const double sums = std::max(1, threads) * (D + 1.0 + (shifting ? D + 1.0 : 0.0)) * 8;
   const double cells = 2 * 4;
   // SeedParticle (x, v, wall_vector, wall_scalar, id, kind) and, with a

@@ -128,6 +128,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
       kernel_(derived_.smoothing_length) {
   if (scene.dimension != Dim) throw std::invalid_argument("Simulation: scene dimension does not match");
   fixed_ = scene.particle_motion == ParticleMotion::Fixed;
+  if (fixed_) particles_.fix_positions();  // no x_start, no room to grow
   convection_ = fixed_ && scene.convection;
   volume_density_ = fixed_ ? scene.density : 0.0;
   // Particles that never move need no skin: their list is exact forever.
@@ -151,7 +152,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     decomposition = scene.grid_decomposition || scene.image.voxels ? decompose<Dim>(scene, comm_.size())
                                                                    : rcb_decomposition<Dim>(scene, comm_);
   }
-  neighbourhood_ = Neighbourhood<Dim, ExecSpace>(comm_, decomposition, scene.cell_size, kernel_.cutoff, skin);
+  neighbourhood_ = Neighbourhood<Dim, ExecSpace>(comm_, decomposition, scene.cell_size, kernel_.cutoff, skin, fixed_);
   const auto& box = neighbourhood_.box();
   double box_lo[Dim], box_hi[Dim];
   for (int d = 0; d < Dim; ++d) {
@@ -186,12 +187,14 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   make_step_stages();
   if (start == Start::Empty) return;
 
-  const auto seeds = fill_lattice<Dim>(scene, box_lo, box_hi);
-  load_seeds<Dim, ExecSpace>(seeds, scene.density, scene.particle_spacing, particles_);
-  long long fluid = 0;
-  for (const auto& s : seeds) fluid += s.kind == kFluid;
-  fluid_count_ = comm_.sum(fluid);
-  total_count_ = comm_.sum(static_cast<long long>(seeds.size()));
+  {  // the seeds (about 100 bytes a particle in 3D) are gone before the lists are made
+    const auto seeds = fill_lattice<Dim>(scene, box_lo, box_hi);
+    load_seeds<Dim, ExecSpace>(seeds, scene.density, scene.particle_spacing, particles_);
+    long long fluid = 0;
+    for (const auto& s : seeds) fluid += s.kind == kFluid;
+    fluid_count_ = comm_.sum(fluid);
+    total_count_ = comm_.sum(static_cast<long long>(seeds.size()));
+  }
   // Nothing would flow: every measure of the run would be a plausible zero.
   if (fluid_count_ == 0) {
     std::ostringstream msg;
@@ -239,6 +242,7 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood_only() {
     neighbourhood_.update_ghosts(particles_);
     return;
   }
+  if (fixed_) make_stencils();
   neighbourhood_.rebuild(space_, particles_);
   built_neighbourhood();
 }
@@ -254,14 +258,13 @@ void Simulation<Dim, ExecSpace>::built_neighbourhood() {
   // Fixed particles' volumes use rho0: with one mass, m and 1/rho are constants of the pair loop.
   pair_options_.uniform_mass = fixed_ ? common_mass(space_, particles_, particles_.total()) : 0.0;
   pair_options_.uniform_inverse_density = pair_options_.uniform_mass > 0 ? 1.0 / volume_density_ : 0.0;
-  pair_sums_.reserve(particles_.owned);
+  pair_sums_.reserve(particles_.owned, !fixed_);
 }
 
-// The stencil where every entry of both lists, on every process, is a
-// lattice offset: then the run reads the same table everywhere, whatever the
-// process count. Else every process caches each entry's geometry.
+// Fixed particles: the stencils of the lattice's offsets, and rows as masks
+// over the pair stencil from the next build on.
 template <int Dim, class ExecSpace>
-void Simulation<Dim, ExecSpace>::find_pair_geometry() {
+void Simulation<Dim, ExecSpace>::make_stencils() {
   if (pair_stencil_.size() == 0) {
     std::array<double, Dim> spacing{};
     spacing.fill(scene_.particle_spacing);  // the lattice is square (cubic): geometry/Lattice.hpp
@@ -272,15 +275,26 @@ void Simulation<Dim, ExecSpace>::find_pair_geometry() {
       wall_stencil_ = LatticeStencil<Dim, MemorySpace>(spacing, neighbourhood_.reach(),
                                                        [&](double r) { return kernel.value(r); });
   }
+  neighbourhood_.use_lattice_rows(pair_stencil_, scene_.particle_spacing);
+}
+
+// The stencil where every entry of both lists, on every process, is a
+// lattice offset (the pair list's rows then masks over it where they could
+// be made so, core/LatticeRows.hpp): then the run reads the same table
+// everywhere, whatever the process count. Else every process caches each
+// entry's geometry.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::find_pair_geometry() {
   auto& list = neighbourhood_.list();
   const auto& x = particles_.x;
   const int owned = particles_.owned;
-  bool lattice = list.find_stencil_ids(space_, x, owned, pair_stencil_);
+  bool lattice = list.on_lattice_rows() || list.find_stencil_ids(space_, x, owned, pair_stencil_);
   if (extrapolate_walls_) lattice = wall_neighbours_.find_stencil_ids(space_, x, owned, wall_stencil_) && lattice;
   if (!comm_.any(!lattice)) {
-    list.use_stencil(pair_stencil_);
+    if (!list.on_lattice_rows()) list.use_stencil(space_, pair_stencil_);
     if (extrapolate_walls_) wall_neighbours_.use_stencil(wall_stencil_);
   } else {
+    if (list.on_lattice_rows()) neighbourhood_.build_list(space_, particles_);
     list.cache_geometry(space_, x, owned, kernel_);
     if (extrapolate_walls_) wall_neighbours_.cache_geometry(space_, x, owned, kernel_);
   }
@@ -485,6 +499,7 @@ void Simulation<Dim, ExecSpace>::resume(long long steps, const typename Particle
     Kokkos::deep_copy(space_, Kokkos::subview(particles_.x, owned, Kokkos::ALL),
                       Kokkos::subview(x_at_build, owned, Kokkos::ALL));
     space_.fence();
+    if (fixed_) make_stencils();
     neighbourhood_.build(space_, particles_);
     built_neighbourhood();
     Kokkos::deep_copy(space_, Kokkos::subview(particles_.x, owned, Kokkos::ALL), current);

@@ -120,7 +120,9 @@ class Simulation {
   const ParticleSet& particles() const { return particles_; }
 
   const Decomposition<Dim>& decomposition() const { return neighbourhood_.decomposition(); }
-  const typename ParticleSet::Vector& positions_at_build() const { return neighbourhood_.positions_at_build(); }
+  const typename ParticleSet::Vector& positions_at_build() const {
+    return fixed_ ? particles_.x : neighbourhood_.positions_at_build();  // fixed particles stay where it was built
+  }
 
   // Velocity, pressure and solid flag on this process's block of a grid of
   // `points` nodes per direction over the cell (physics/GridInterpolation.hpp),
@@ -154,6 +156,7 @@ class Simulation {
   // Fixed particles, once the list is built: whether the pairs' geometry is
   // read from the lattice stencil (else from the per-entry cache).
   bool pairs_on_stencil() const { return neighbourhood_.list().on_stencil(); }
+  bool pairs_on_lattice_rows() const { return neighbourhood_.list().on_lattice_rows(); }
   // Listed neighbours (support and skin) per owned particle, counting both ends of a half list's pairs.
   double neighbours_per_particle() const { return neighbourhood_.list().neighbours_per_particle(); }
 
@@ -193,6 +196,7 @@ class Simulation {
   // What rests on a fresh neighbourhood: the cached pair geometry of fixed
   // particles, the boundary particles' fluid neighbours, room for the sums.
   void built_neighbourhood();
+  void make_stencils();       // fixed particles: the lattice stencils, before the lists are built
   void find_pair_geometry();  // fixed particles: the lists' geometry, from the stencil or per entry
   // The stages of a step, in order (step_stages()).
   void make_step_stages();

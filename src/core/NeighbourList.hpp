@@ -16,6 +16,7 @@
 #include <string>
 
 #include "core/CellList.hpp"
+#include "core/LatticeRows.hpp"
 #include "core/Math.hpp"
 #include "core/PairGeometry.hpp"
 #include "core/Vec.hpp"
@@ -80,7 +81,9 @@ class NeighbourList {
         });
     space.fence();
     pairs_ = total;
+    rows_ = owned;
     geometry_.clear();
+    lattice_rows_.clear();
     // Neighbours per particle as a full list would have them: the half list
     // holds each pair of owned particles once.
     static const std::string label_owned_pairs = "poresph::NeighbourList::owned_pairs";
@@ -116,15 +119,69 @@ class NeighbourList {
     static const std::string label = "poresph::NeighbourList::find_stencil_ids";
     return geometry_.find_stencil_ids(space, label, offsets_, indices_, x, owned, pairs_, stencil);
   }
-  void use_stencil(const LatticeStencil<Dim, MemorySpace>& stencil) { geometry_.use_stencil(stencil); }
+  // Each row's owned neighbours, then its ghosts, are put in the stencil's
+  // order: the order the rows keep as masks (to_lattice_rows), so that
+  // whatever is built from the list (the no-slip factors) meets the pairs
+  // in the order the pair loop visits them.
+  void use_stencil(const ExecSpace& space, const LatticeStencil<Dim, MemorySpace>& stencil) {
+    geometry_.use_stencil(stencil);
+    const auto offsets = offsets_, ghosts_begin = ghosts_begin_, indices = indices_;
+    const auto ids = geometry_.ids();
+    static const std::string label = "poresph::NeighbourList::sort_rows_by_stencil_id";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space, 0, rows_), KOKKOS_LAMBDA(int i) {
+          const int parts[3] = {offsets(i), ghosts_begin(i), offsets(i + 1)};
+          for (int part = 0; part < 2; ++part)
+            for (int k = parts[part] + 1; k < parts[part + 1]; ++k) {  // insertion sort: rows are short
+              const auto id = ids(k);
+              const int index = indices(k);
+              int m = k;
+              for (; m > parts[part] && ids(m - 1) > id; --m) ids(m) = ids(m - 1), indices(m) = indices(m - 1);
+              ids(m) = id, indices(m) = index;
+            }
+        });
+    space.fence();
+  }
+  // Fixed particles on one lattice: the rows as masks over the stencil and
+  // a map of the lattice's sites (core/LatticeRows.hpp), made from the cell
+  // list without the list; slots: the owned particles and ghosts. Returns
+  // whether every pair is an offset of the stencil (else nothing is held,
+  // and build() makes the list).
+  template <class PositionView>
+  bool build_lattice_rows(const ExecSpace& space, const CellList<Dim, ExecSpace>& cells, const PositionView& x,
+                          int owned, int slots, double radius, const LatticeStencil<Dim, MemorySpace>& stencil,
+                          double spacing) {
+    offsets_ = IndexView(), ghosts_begin_ = IndexView(), indices_ = IndexView();
+    geometry_ = PairGeometry<Dim, ExecSpace>();
+    pairs_ = 0, rows_ = 0, neighbours_per_particle_ = 0;
+    if (!lattice_rows_.build(space, cells, x, owned, slots, radius, stencil, spacing)) return false;
+    rows_ = owned;
+    pairs_ = lattice_rows_.pairs(space, false);
+    neighbours_per_particle_ = static_cast<double>(pairs_ + lattice_rows_.pairs(space, true)) / owned;
+    return true;
+  }
+  // f(b, r) for each entry of owned particle a's row, b the neighbour and
+  // r = x_a - x_b, in the pair loop's order; fixed particles (the list has
+  // its geometry, or is rows).
+  template <class F>
+  KOKKOS_INLINE_FUNCTION void for_each_entry(int a, F&& f) const {
+    if (lattice_rows_.built()) return lattice_rows_.for_each(a, f);
+    for (int k = begin(a); k < end(a); ++k) {
+      Vec<Dim> r;
+      for (int d = 0; d < Dim; ++d) r[d] = separation(k, d);
+      f(neighbour(k), r);
+    }
+  }
+  bool on_lattice_rows() const { return lattice_rows_.built(); }
+  const LatticeRows<Dim, ExecSpace>& lattice_rows() const { return lattice_rows_; }
   template <class PositionView, class Kernel>
   void cache_geometry(const ExecSpace& space, const PositionView& x, int owned, const Kernel& kernel) {
     static const std::string label = "poresph::NeighbourList::cache_geometry";
     geometry_.cache(space, label, offsets_, indices_, x, owned, pairs_,
                     KOKKOS_LAMBDA(double r) { return kernel.derivative_over_r(r); });
   }
-  bool has_geometry() const { return geometry_.has_geometry(); }
-  bool on_stencil() const { return geometry_.on_stencil(); }
+  bool has_geometry() const { return geometry_.has_geometry() || lattice_rows_.built(); }
+  bool on_stencil() const { return geometry_.on_stencil() || lattice_rows_.built(); }
   KOKKOS_INLINE_FUNCTION double separation(int k, int d) const { return geometry_.separation(k, d); }
   KOKKOS_INLINE_FUNCTION double derivative_over_r(int k) const { return geometry_.of_distance(k); }
 
@@ -134,6 +191,8 @@ class NeighbourList {
  private:
   IndexView offsets_, ghosts_begin_, indices_;
   PairGeometry<Dim, ExecSpace> geometry_;
+  LatticeRows<Dim, ExecSpace> lattice_rows_;
+  int rows_ = 0;  // owned particles at the build
   long long pairs_ = 0;
   double neighbours_per_particle_ = 0;
 };

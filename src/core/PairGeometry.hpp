@@ -176,6 +176,9 @@ class PairGeometry {
     mode_ = Mode::Cache;
   }
 
+  // Each entry's stencil id (after find_stencil_ids).
+  const Kokkos::View<typename Stencil::Id*, MemorySpace>& ids() const { return ids_; }
+
   void clear() { mode_ = Mode::None; }
   bool has_geometry() const { return mode_ != Mode::None; }
   bool on_stencil() const { return mode_ == Mode::Stencil; }

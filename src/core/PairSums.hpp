@@ -26,10 +26,11 @@ class PairSums {
   explicit PairSums(int components) : components_(components) {}
 
   // Room for particles [0, n); new room is zero. Outside the time loop's
-  // steady state only: it allocates when n grows beyond the capacity.
-  void reserve(int n) {
+  // steady state only: it allocates when n grows beyond the capacity, by a
+  // quarter more with room_to_grow (moving particles migrate), else to n.
+  void reserve(int n, bool room_to_grow = true) {
     if (n <= capacity_) return;
-    capacity_ = n + n / 4 + 16;
+    capacity_ = room_to_grow ? n + n / 4 + 16 : n;
     // A fresh View, not Kokkos::resize: every slot in use is zero between loops.
     copies_ = token_.size();
     values_ = Kokkos::View<double***, Kokkos::LayoutRight, MemorySpace>("PairSums", copies_, capacity_, components_);

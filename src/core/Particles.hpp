@@ -60,6 +60,7 @@ struct Particles {
   bool has_surfaces = false;
   bool has_shifting = false;
   bool has_level_start = false;
+  bool fixed_positions = false;  // fix_positions()
 
   int total() const { return owned + ghosts; }
 
@@ -82,12 +83,14 @@ struct Particles {
   template <class F>
   void for_each_owned_field(F&& f) const {
     for_each_ghost_field(f);
-    f(x_start), f(v_start), f(dvdt), f(rho_start), f(drhodt);
+    if (!fixed_positions) f(x_start);
+    f(v_start), f(dvdt), f(rho_start), f(drhodt);
     if (has_surfaces) f(wall_drag);
     if (has_shifting) f(shift), f(shift_velocity);
     if (has_level_start) f(v_level_start), f(p_level_start);
   }
-  int capacity() const { return static_cast<int>(x.extent(0)); }
+  int capacity() const { return static_cast<int>(x.extent(0)); }              // slots a ghost may take
+  int owned_capacity() const { return static_cast<int>(v_start.extent(0)); }  // slots an owned particle may take
 
   // From now on the particles carry their level start (v_level_start, p_level_start).
   void keep_level_start() {
@@ -99,29 +102,50 @@ struct Particles {
   explicit Particles(bool with_surfaces = false, bool with_shifting = false)
       : has_surfaces(with_surfaces), has_shifting(with_shifting) {}
 
+  // Fixed particles: x never changes (no x_start), and the slots are known
+  // once the ghosts are in (no room to grow): the views are cut to the
+  // owned particles now and grow by what each build asks, no more.
+  void fix_positions() {
+    fixed_positions = true;
+    x_start = Vector();
+    for_each_view(true, [this](auto& view, const char*) {
+      if (static_cast<int>(view.extent(0)) > owned) Kokkos::resize(view, owned);
+    });
+  }
+
   // Grows every View to at least n slots, keeping contents; grows by 25 %
-  // beyond n so that repeated ghost rebuilds do not reallocate every step.
-  void reserve(int n) {
-    if (n <= capacity()) return;
-    const int cap = n + n / 4 + 16;
-    auto grow = [cap](auto& view, const char* label) {
+  // beyond n so that repeated ghost rebuilds do not reallocate every step
+  // (fixed particles: exactly n).
+  void reserve(int n) { grow(n, true); }
+  // The same for the fields a ghost carries only (for_each_ghost_field):
+  // the owned particles' own fields (start of step, rates) keep their size.
+  void reserve_ghosts(int n) { grow(n, false); }
+
+
+ private:
+  void grow(int n, bool owned_fields) {
+    if (n <= capacity() && (!owned_fields || n <= owned_capacity())) return;
+    const int cap = fixed_positions ? n : n + n / 4 + 16;
+    for_each_view(owned_fields, [cap](auto& view, const char* label) {
       if (view.extent(0) == 0) view = std::decay_t<decltype(view)>(std::string(label), cap);
-      else Kokkos::resize(view, cap);
-    };
-    grow(x, "x"); grow(v, "v"); grow(rho, "rho"); grow(p, "p"); grow(m, "m");
-    grow(pressure_term, "pressure_term"); grow(inverse_density, "inverse_density");
-    grow(kind, "kind"); grow(id, "id");
-    grow(x_start, "x_start"); grow(v_start, "v_start"); grow(dvdt, "dvdt");
-    grow(rho_start, "rho_start"); grow(drhodt, "drhodt");
-    if (has_surfaces) {
-      grow(wall_vector, "wall_vector"); grow(wall_scalar, "wall_scalar"); grow(wall_drag, "wall_drag");
-    }
-    if (has_shifting) {
-      grow(shift, "shift"); grow(shift_velocity, "shift_velocity");
-    }
-    if (has_level_start) {
-      grow(v_level_start, "v_level_start"); grow(p_level_start, "p_level_start");
-    }
+      else if (static_cast<int>(view.extent(0)) < cap) Kokkos::resize(view, cap);
+    });
+  }
+  // f(view, label) for each View the particles hold: what a ghost carries,
+  // and with owned_fields what only owned particles have.
+  template <class F>
+  void for_each_view(bool owned_fields, F&& f) {
+    f(x, "x"), f(v, "v"), f(rho, "rho"), f(p, "p"), f(m, "m");
+    f(pressure_term, "pressure_term"), f(inverse_density, "inverse_density");
+    f(kind, "kind"), f(id, "id");
+    if (has_surfaces) f(wall_vector, "wall_vector"), f(wall_scalar, "wall_scalar");
+    // Owned, but the ghost slots are scratch for the level's start's own ghosts (Simulation::warm_start).
+    if (has_level_start) f(v_level_start, "v_level_start"), f(p_level_start, "p_level_start");
+    if (!owned_fields) return;
+    if (!fixed_positions) f(x_start, "x_start");
+    f(v_start, "v_start"), f(dvdt, "dvdt"), f(rho_start, "rho_start"), f(drhodt, "drhodt");
+    if (has_surfaces) f(wall_drag, "wall_drag");
+    if (has_shifting) f(shift, "shift"), f(shift_velocity, "shift_velocity");
   }
 };
 

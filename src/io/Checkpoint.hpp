@@ -165,13 +165,13 @@ void write_checkpoint(const Sim& sim, const std::string& path, const RunState& s
     const long long rows = n;
     write_checked(file, c, "rank_rows", &rows, 1, 0);
     P.for_each_owned_field([&](const auto& view) {
-      const auto values = owned_rows(view, n);
-      write_checked(file, c, view.label(), values.data(), n, std::decay_t<decltype(view)>::rank == 2 ? Dim : 0);
+      with_owned_rows(view, n, [&](const auto* values) {
+        write_checked(file, c, view.label(), values, n, std::decay_t<decltype(view)>::rank == 2 ? Dim : 0);
+      });
     });
-    if (rates_valid) {
-      const auto values = owned_rows(sim.positions_at_build(), n);
-      write_checked(file, c, "x_at_build", values.data(), n, Dim);
-    }
+    if (rates_valid)
+      with_owned_rows(sim.positions_at_build(), n,
+                      [&](const double* values) { write_checked(file, c, "x_at_build", values, n, Dim); });
   });
 }
 

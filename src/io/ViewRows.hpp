@@ -3,6 +3,7 @@
 // field files and checkpoints write and read.
 #include <Kokkos_Core.hpp>
 
+#include <type_traits>
 #include <vector>
 
 namespace poresph {
@@ -20,6 +21,21 @@ auto owned_rows(const View& view, int owned) {
       else rows[i] = host(i);
     }
   return rows;
+}
+
+// f(data): the owned rows of a View as a contiguous host array, read in
+// place where the View is on the host and its rows are contiguous (a
+// checkpoint of a large scene then copies no field), else from owned_rows.
+template <class View, class F>
+void with_owned_rows(const View& view, int owned, F&& f) {
+  using Layout = typename View::array_layout;
+  constexpr bool host = Kokkos::SpaceAccessibility<Kokkos::HostSpace, typename View::memory_space>::accessible;
+  constexpr bool rows_contiguous = View::rank == 1 || std::is_same_v<Layout, Kokkos::LayoutRight>;
+  if constexpr (host && rows_contiguous) {
+    if (view.span_is_contiguous()) return f(view.data());
+  }
+  const auto rows = owned_rows(view, owned);
+  f(rows.data());
 }
 
 // Writes rows back into the first rows of a View.

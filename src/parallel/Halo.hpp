@@ -63,11 +63,12 @@ class Halo {
   // step must not be undone by the corrector).
   void wrap(const ParticleSet& P) const {
     const auto x = P.x, x_start = P.x_start;
+    const bool with_start = !P.fixed_positions;
     for (int i = 0; i < P.owned; ++i)
       for (int d = 0; d < Dim; ++d) {
         if (!decomposition_.periodic()[d]) continue;
         const double wrapped = wrap_coordinate(x(i, d), 0.0, decomposition_.cell()[d]);
-        x_start(i, d) += wrapped - x(i, d);
+        if (with_start) x_start(i, d) += wrapped - x(i, d);
         x(i, d) = wrapped;
       }
   }
@@ -127,12 +128,21 @@ class Halo {
       keep_headroom(items);
       sort_by_destination(items);
       const Transfer& transfer = exchange(P, items, Fields::Ghost, d);
-      P.reserve(P.total() + transfer.received());
+      P.reserve_ghosts(P.total() + transfer.received());
       unpack(P, transfer, P.total(), Fields::Ghost);
       P.ghosts += transfer.received();
       stages_[d].recv_counts = transfer.recv_counts;
     }
     built_ = true;
+  }
+
+  // Gives back the room kept for later builds (a halo built once: fixed
+  // particles); the routes stay, and an update's buffers take what it needs.
+  void fit() {
+    for (auto& stage : stages_) stage.items.shrink_to_fit();
+    for (auto* buffer : {&transfer_.data, &send_buffer_}) buffer->clear(), buffer->shrink_to_fit();
+    for (auto* buffer : {&leaving_, &sorted_items_}) buffer->clear(), buffer->shrink_to_fit();
+    staying_.clear(), staying_.shrink_to_fit();
   }
 
   // Sends the fields that change between rebuilds along the recorded routes;

@@ -30,10 +30,11 @@ class Neighbourhood {
 
   Neighbourhood() = default;
   // Pairs within cutoff + skin, on this process's box of `decomposition`
-  // of a cell of sides `cell`.
+  // of a cell of sides `cell`. Fixed particles (skin 0): built once, never
+  // stale, with nothing kept for later builds.
   Neighbourhood(const Communicator& comm, const Decomposition<Dim>& decomposition, const std::array<double, 3>& cell,
-                double cutoff, double skin)
-      : comm_(comm), halo_(comm, decomposition, cutoff + skin), cutoff_(cutoff), skin_(skin) {
+                double cutoff, double skin, bool fixed_particles = false)
+      : comm_(comm), halo_(comm, decomposition, cutoff + skin), cutoff_(cutoff), skin_(skin), fixed_(fixed_particles) {
     const auto& box = halo_.box();
     for (int d = 0; d < Dim; ++d) {
       // The search covers the box and its halo (walls beyond the cell included).
@@ -49,7 +50,7 @@ class Neighbourhood {
   // Whether some particle has moved more than half the skin since the last
   // build (or there was none), agreed by every process: they exchange ghosts.
   bool stale(const ExecSpace& space, const ParticleSet& P) const {
-    if (!built_) return true;
+    if (!built_ || fixed_) return !built_;
     const auto x = P.x;
     const auto x0 = x_at_build_;
     const double limit_sq = 0.25 * skin_ * skin_;
@@ -78,14 +79,33 @@ class Neighbourhood {
   // Ghosts, cells and list for the owned particles where they are.
   void build(const ExecSpace& space, ParticleSet& P) {
     halo_.build(P);
+    if (fixed_) halo_.fit();  // built once
     cells_.build(space, P.x, P.total(), search_lo_, search_hi_, reach());
-    list_.build(space, cells_, P.x, P.owned, reach(), skin_ > 0);  // without skin, built once
-    const auto owned = std::make_pair(0, P.owned);
-    if (static_cast<int>(x_at_build_.extent(0)) < P.owned)
-      x_at_build_ = typename ParticleSet::Vector("x_at_build", P.owned);
-    Kokkos::deep_copy(space, Kokkos::subview(x_at_build_, owned, Kokkos::ALL), Kokkos::subview(P.x, owned, Kokkos::ALL));
+    const bool rows = lattice_stencil_.size() > 0 &&
+                      list_.build_lattice_rows(space, cells_, P.x, P.owned, P.total(), reach(), lattice_stencil_,
+                                               lattice_spacing_);
+    if (!rows) build_list(space, P);
+    if (!fixed_) {  // fixed particles are where the list was built
+      const auto owned = std::make_pair(0, P.owned);
+      if (static_cast<int>(x_at_build_.extent(0)) < P.owned)
+        x_at_build_ = typename ParticleSet::Vector("x_at_build", P.owned);
+      Kokkos::deep_copy(space, Kokkos::subview(x_at_build_, owned, Kokkos::ALL),
+                        Kokkos::subview(P.x, owned, Kokkos::ALL));
+    }
     built_ = true;
     ++builds_;
+  }
+
+  // Fixed particles on a lattice of this spacing: from the next build on,
+  // the list's rows are masks over this stencil where every pair is one of
+  // its offsets (core/LatticeRows.hpp).
+  void use_lattice_rows(const LatticeStencil<Dim, MemorySpace>& stencil, double spacing) {
+    lattice_stencil_ = stencil;
+    lattice_spacing_ = spacing;
+  }
+  // The list itself, from the cells of the last build.
+  void build_list(const ExecSpace& space, const ParticleSet& P) {
+    list_.build(space, cells_, P.x, P.owned, reach(), skin_ > 0);  // without skin, built once
   }
 
   // The ghosts' changing fields, along the routes of the last build.
@@ -96,6 +116,7 @@ class Neighbourhood {
   const CellList<Dim, ExecSpace>& cells() const { return cells_; }
   NeighbourList<Dim, ExecSpace>& list() { return list_; }
   const NeighbourList<Dim, ExecSpace>& list() const { return list_; }
+  // Owned positions at the last build; empty for fixed particles (they are there).
   const typename ParticleSet::Vector& positions_at_build() const { return x_at_build_; }
   long long builds() const { return builds_; }
   bool built() const { return built_; }
@@ -105,9 +126,12 @@ class Neighbourhood {
   Halo<Dim, ExecSpace> halo_;
   CellList<Dim, ExecSpace> cells_;
   NeighbourList<Dim, ExecSpace> list_;
+  LatticeStencil<Dim, MemorySpace> lattice_stencil_;  // empty: no rows as masks
+  double lattice_spacing_ = 0;
   double cutoff_ = 0, skin_ = 0;
+  bool fixed_ = false;
   Vec<Dim> search_lo_, search_hi_;  // the box extended by the reach: where ghosts and walls live
-  typename ParticleSet::Vector x_at_build_;  // owned positions at the last build
+  typename ParticleSet::Vector x_at_build_;  // owned positions at the last build (moving particles)
   bool built_ = false;
   long long builds_ = 0;
 };

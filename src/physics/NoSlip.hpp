@@ -130,11 +130,11 @@ class NoSlipFactors {
           const int kind_a = Q.kind(a);
           bool touches_surface = kind_a != kFluid;
           int count = 0;
-          for (int k = list.begin(a); k < list.end(a); ++k) {
-            const int kind_b = Q.kind(list.neighbour(k));
+          list.for_each_entry(a, [&](int b, const Vec<Dim>&) {
+            const int kind_b = Q.kind(b);
             touches_surface = touches_surface || kind_b != kFluid;
             count += mixed(kind_a, kind_b);
-          }
+          });
           row_first(a) = count;
           touches(a) = touches_surface;
         });
@@ -155,15 +155,12 @@ class NoSlipFactors {
         label, Kokkos::RangePolicy<ExecSpace>(space, 0, owned), KOKKOS_LAMBDA(int a) {
           const int kind_a = Q.kind(a);
           int next = row_first(a);
-          for (int k = list.begin(a); k < list.end(a); ++k) {
-            const int b = list.neighbour(k);
+          list.for_each_entry(a, [&](int b, const Vec<Dim>& r) {
             const int kind_b = Q.kind(b);
-            if (!mixed(kind_a, kind_b)) continue;
-            Vec<Dim> r;
-            for (int d = 0; d < Dim; ++d) r[d] = list.separation(k, d);
+            if (!mixed(kind_a, kind_b)) return;
             factors(next++) = kind_a == kFluid ? no_slip_factor_seen(Q, a, b, kind_b, r, min_fluid_distance)
                                                : no_slip_factor_seen(Q, b, a, kind_a, -1.0 * r, min_fluid_distance);
-          }
+          });
         });
     space.fence();
     built_ = true;

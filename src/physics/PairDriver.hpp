@@ -242,6 +242,7 @@ struct PairDriver : Terms... {
   PairSums<ExecSpace> sums;
   QuinticKernel<Dim> kernel;
   bool cached;  // the list carries each pair's separation and F (fixed particles)
+  bool lattice_rows;  // its rows are masks over the stencil (core/LatticeRows.hpp)
   // Whether a boundary particle takes anything from its pairs: the
   // continuity of its density (PairLoopOptions::wall_continuity). Otherwise
   // its end of every pair is left out, its terms would be thrown away, and a
@@ -258,6 +259,7 @@ struct PairDriver : Terms... {
         sums(pair_sums),
         kernel(W),
         cached(in.cached),
+        lattice_rows(list.on_lattice_rows()),
         boundary_pairs(in.options.wall_continuity),
         uniform_mass(in.options.uniform_mass),
         uniform_inverse_density(in.options.uniform_inverse_density) {}
@@ -424,6 +426,27 @@ struct PairDriver : Terms... {
     }
   }
 
+  // The same for a row said by masks over the stencil (core/LatticeRows.hpp):
+  // the owned neighbours' mask with BothEnds, else the ghosts', in the
+  // stencil's order, as the sorted list had them.
+  template <bool BothEnds, bool Surfaces>
+  KOKKOS_FORCEINLINE_FUNCTION void add_lattice_pairs(const PairEnd<Dim>& end_a, Sums& sum_a, int copy,
+                                                     int& surface_pair) const {
+    const auto& rows = neighbours.lattice_rows();
+    const int a = end_a.index;
+    for (int w = 0; w < rows.words(); ++w)
+      for (auto bits = rows.template bits<BothEnds>(a, w); bits != 0; bits &= bits - 1) {
+        const int id = w * LatticeRows<Dim, ExecSpace>::kBits + lowest_bit(bits);
+        Vec<Dim> r;
+        for (int d = 0; d < Dim; ++d) r[d] = rows.separation(id, d);
+        const int b = rows.neighbour(a, id);
+        int entry = -1;
+        if constexpr (Surfaces)
+          if (surface_pair >= 0 && fluid_boundary_pair(end_a.kind, P.kind(b))) entry = surface_pair++;
+        add_pair<BothEnds, Surfaces>(end_a, sum_a, copy, b, r, rows.of_distance(id), entry);
+      }
+  }
+
   KOKKOS_INLINE_FUNCTION void operator()(int a) const {
     if constexpr (WithSurfaces)  // most rows of a scene with surfaces have no boundary particle
       if (!(touches_surface<Terms>(a) || ...)) return rates_of<false>(a);
@@ -435,13 +458,19 @@ struct PairDriver : Terms... {
     const PairEnd<Dim> end_a = end_of<Surfaces>(a);
     Sums sum_a;
     const int copy = sums.acquire();
-    const int ghosts_begin = neighbours.ghosts_begin(a);
     if (cached) {
       int surface_pair = -1;
       if constexpr (Surfaces) ((surface_pair = first_surface_pair<Terms>(a) >= 0 ? first_surface_pair<Terms>(a) : surface_pair), ...);
-      add_cached_pairs<true, Surfaces>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin, surface_pair);
-      add_cached_pairs<false, Surfaces>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a), surface_pair);
+      if (lattice_rows) {
+        add_lattice_pairs<true, Surfaces>(end_a, sum_a, copy, surface_pair);
+        add_lattice_pairs<false, Surfaces>(end_a, sum_a, copy, surface_pair);
+      } else {
+        const int ghosts_begin = neighbours.ghosts_begin(a);
+        add_cached_pairs<true, Surfaces>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin, surface_pair);
+        add_cached_pairs<false, Surfaces>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a), surface_pair);
+      }
     } else {
+      const int ghosts_begin = neighbours.ghosts_begin(a);
       add_pairs<true, Surfaces>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);  // owned neighbours
       add_pairs<false, Surfaces>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));   // ghosts
     }
