@@ -176,7 +176,11 @@ class LatticeRows {
     return bits_(a, Owned ? w : words_ + w);
   }
   // The slot of row a's neighbour at stencil offset id (a bit of its masks).
-  KOKKOS_FORCEINLINE_FUNCTION int neighbour(int a, int id) const { return slot_of_site_(site_(a) + step_(id)) - 1; }
+  KOKKOS_FORCEINLINE_FUNCTION int neighbour(int a, int id) const { return neighbour_of_site(site_(a), id); }
+  KOKKOS_FORCEINLINE_FUNCTION int site(int a) const { return site_(a); }
+  KOKKOS_FORCEINLINE_FUNCTION int neighbour_of_site(int site, int id) const {
+    return slot_of_site_(site + step_(id)) - 1;
+  }
   KOKKOS_FORCEINLINE_FUNCTION double separation(int id, int d) const { return stencil_.separation(id, d); }
   KOKKOS_FORCEINLINE_FUNCTION double of_distance(int id) const { return stencil_.of_distance(id); }
 

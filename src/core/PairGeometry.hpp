@@ -26,7 +26,9 @@
 namespace poresph {
 
 // Every lattice offset r = n * spacing (n an integer vector, n != 0) with
-// |r| within a radius, in one fixed order (n lexicographic), with r and
+// |r| within a radius, in one fixed order (n_x varying fastest, as the
+// lattice stores its points: a row's neighbours come in the order of their
+// slots), with r and
 // of_distance(|r|): computed on the host from the spacing and the kernel
 // alone, so every process holds the same table to the bit, whatever its
 // particles.
@@ -61,11 +63,11 @@ class LatticeStencil {
     std::vector<int> id_of_dense(dense, -1);
     std::vector<std::array<double, Dim + 1>> rows;
     for (long long c = 0; c < dense; ++c) {
-      // c = sum over d of (n_d + reach_d) times the sizes of the axes after d.
+      // c = sum over d of (n_d + reach_d) times the sizes of the axes before d.
       std::array<double, Dim + 1> row{};
       double r_sq = 0;
       bool zero = true;
-      for (int d = Dim - 1, rest = static_cast<int>(c); d >= 0; rest /= 2 * reach_[d] + 1, --d) {
+      for (int d = 0, rest = static_cast<int>(c); d < Dim; rest /= 2 * reach_[d] + 1, ++d) {
         const int n = rest % (2 * reach_[d] + 1) - reach_[d];
         row[d] = n * spacing[d];
         r_sq += row[d] * row[d];
@@ -97,7 +99,7 @@ class LatticeStencil {
   KOKKOS_INLINE_FUNCTION int id_of(const Vec<Dim>& r) const {
     if (lookup_.extent(0) == 0) return -1;
     long long dense = 0;
-    for (int d = 0; d < Dim; ++d) {
+    for (int d = Dim - 1; d >= 0; --d) {
       const double q = r[d] * inverse_spacing_[d];
       const double n = math::floor(q + 0.5);
       if (!(math::fabs(q - n) <= kTolerance) || !(math::fabs(n) <= reach_[d])) return -1;

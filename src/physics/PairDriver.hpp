@@ -432,19 +432,32 @@ struct PairDriver : Terms... {
   template <bool BothEnds, bool Surfaces>
   KOKKOS_FORCEINLINE_FUNCTION void add_lattice_pairs(const PairEnd<Dim>& end_a, Sums& sum_a, int copy,
                                                      int& surface_pair) const {
+    constexpr int kBits = LatticeRows<Dim, ExecSpace>::kBits;
     const auto& rows = neighbours.lattice_rows();
-    const int a = end_a.index;
-    for (int w = 0; w < rows.words(); ++w)
-      for (auto bits = rows.template bits<BothEnds>(a, w); bits != 0; bits &= bits - 1) {
-        const int id = w * LatticeRows<Dim, ExecSpace>::kBits + lowest_bit(bits);
+    const int a = end_a.index, site = rows.site(a), words = rows.words();
+    for (int w = 0; w < words; ++w) {
+      auto bits = rows.template bits<BothEnds>(a, w);
+      if (bits == 0) continue;
+      // The next pair's neighbour is looked up before this pair's terms, so
+      // that the map's load (a list's index is a stream) is under way while they run.
+      int next_id = w * kBits + lowest_bit(bits);
+      int next_b = rows.neighbour_of_site(site, next_id);
+      while (true) {
+        const int id = next_id, b = next_b;
+        bits &= bits - 1;
+        if (bits != 0) {
+          next_id = w * kBits + lowest_bit(bits);
+          next_b = rows.neighbour_of_site(site, next_id);
+        }
         Vec<Dim> r;
         for (int d = 0; d < Dim; ++d) r[d] = rows.separation(id, d);
-        const int b = rows.neighbour(a, id);
         int entry = -1;
         if constexpr (Surfaces)
           if (surface_pair >= 0 && fluid_boundary_pair(end_a.kind, P.kind(b))) entry = surface_pair++;
         add_pair<BothEnds, Surfaces>(end_a, sum_a, copy, b, r, rows.of_distance(id), entry);
+        if (bits == 0) break;
       }
+    }
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(int a) const {
