@@ -111,7 +111,8 @@ TYPED_TEST(FixedParticles, CachedPairsGiveTheRatesOfMovingParticles) {
 }
 
 // On the lattice, the pairs' geometry comes from the stencil of lattice
-// offsets (core/PairGeometry.hpp). A cell side that is a whole number of
+// offsets (core/PairGeometry.hpp), and the pairs from rows as masks over it
+// (core/LatticeRows.hpp) without a list. A cell side that is a whole number of
 // spacings only to the 1e-6 the lattice allows puts the periodic ghosts a
 // little off it: the lists then cache each entry's geometry, and the rates
 // are still those of moving particles.
@@ -124,6 +125,7 @@ TYPED_TEST(FixedParticles, OffTheLatticeThePairsFallBackToThePerEntryCache) {
     Simulation<2, TypeParam> sim(box);
     sim.compute_rates();
     EXPECT_EQ(sim.pairs_on_stencil(), side == 1.0) << side;
+    EXPECT_EQ(sim.pairs_on_lattice_rows(), side == 1.0) << side;  // no list on the lattice
   }
   expect_rates_of_moving_particles<TypeParam>(box);
   SceneConfig grains = grain_cell(ParticleMotion::Fixed);
@@ -131,6 +133,7 @@ TYPED_TEST(FixedParticles, OffTheLatticeThePairsFallBackToThePerEntryCache) {
   Simulation<2, TypeParam> on_lattice(grains);
   on_lattice.compute_rates();
   EXPECT_TRUE(on_lattice.pairs_on_stencil());
+  EXPECT_TRUE(on_lattice.pairs_on_lattice_rows());
 }
 
 // The wall pressure extrapolated from the fluid reads, for fixed particles,

@@ -42,9 +42,11 @@ std::map<long long, State> run(const SceneConfig& scene, const Communicator& com
   if (stir_amplitude > 0) stir(sim, stir_amplitude);
   for (int s = 0; s < steps; ++s) sim.step();
   // Fixed particles' pairs, other processes' ghosts and periodic images
-  // among them, are lattice offsets: every process reads the one stencil.
+  // among them, are lattice offsets: every process reads the one stencil,
+  // and holds its rows as masks over it.
   if (scene.particle_motion == ParticleMotion::Fixed) {
     EXPECT_TRUE(sim.pairs_on_stencil()) << "rank " << comm.rank();
+    EXPECT_TRUE(sim.pairs_on_lattice_rows()) << "rank " << comm.rank();
   }
   const auto& P = sim.particles();
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);

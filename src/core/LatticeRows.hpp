@@ -32,9 +32,11 @@ class LatticeRows {
   using Word = std::uint64_t;
   using Stencil = LatticeStencil<Dim, MemorySpace>;
   static constexpr int kBits = 64;
-  // A map of sites larger than this many per slot is not worth its memory
-  // (particles scattered over a large box): the list is kept.
-  static constexpr long long kMostSitesPerSlot = 8;
+  // A map of more sites than this many per slot (particles scattered over a
+  // large box) costs more than 128 bytes a particle, about half a list's in
+  // 2D: the list is kept. A sparse image stays below it down to porosities
+  // of a few per cent (the boundary layers around its pores are particles too).
+  static constexpr long long kMostSitesPerSlot = 32;
 
   // The rows of the owned particles [0, owned) over the slots [0, slots)
   // (owned and ghosts) that the cell list holds, within `radius`: the half
