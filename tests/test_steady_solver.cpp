@@ -136,7 +136,8 @@ TYPED_TEST(SteadySolverTest, DiagonalIsTheJacobians) {
   EXPECT_EQ(checked, 6);
 }
 
-// FGMRES solves a small nonsymmetric system exactly, with restarts.
+// FGMRES solves a small nonsymmetric system exactly, with restarts, and
+// its bases grow only as far as the iterations reach.
 TYPED_TEST(SteadySolverTest, FgmresSolvesASmallSystem) {
   using Space = TypeParam;
   using V = Kokkos::View<double*, typename Space::memory_space>;
@@ -156,9 +157,21 @@ TYPED_TEST(SteadySolverTest, FgmresSolvesASmallSystem) {
   options.restart = 7;
   const auto result = fgmres(ops, apply, [&](const V& in, const V& out) { ops.copy(in, out); }, b, x, options);
   EXPECT_TRUE(result.converged);
+  EXPECT_GT(result.iterations, options.restart);  // it restarted
+  EXPECT_EQ(result.basis_vectors, 2 * options.restart + 1);
   apply(x, r);
   ops.update(-1.0, b, 1.0, r);
   EXPECT_LT(ops.norm(r) / ops.norm(b), 1e-9);
+
+  // A solve that needs fewer iterations than the restart holds only the
+  // bases it reached: k iterations, 2 k + 1 vectors.
+  options.restart = 30;
+  options.tolerance = 1e-3;
+  Kokkos::deep_copy(x, 0.0);
+  const auto short_solve = fgmres(ops, apply, [&](const V& in, const V& out) { ops.copy(in, out); }, b, x, options);
+  EXPECT_TRUE(short_solve.converged);
+  EXPECT_LT(short_solve.iterations, options.restart);
+  EXPECT_EQ(short_solve.basis_vectors, 2 * short_solve.iterations + 1);
 }
 
 // The lattice multigrid as a stationary iteration on a Dirichlet Laplacian

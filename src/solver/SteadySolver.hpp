@@ -128,6 +128,7 @@ class SteadySolver {
           ops, [&](const View& in, const View& out) { apply_bordered(system, in, out); },
           [&](const View& in, const View& out) { precondition(system, in, out); }, rhs, step, krylov);
       report.linear_iterations += result.iterations;
+      outer_basis_ = std::max(outer_basis_, result.basis_vectors);
       if (result.abandoned) {
         report.interrupted = true;
         break;
@@ -173,13 +174,14 @@ class SteadySolver {
     report.rate_evaluations = system.rate_evaluations();
     report.partial_rate_evaluations = system.partial_rate_evaluations();
     report.solve_seconds = seconds_since(start) - report.setup_seconds;
-    // Outer Krylov basis (2 restart + 2 bordered vectors), the step and right-hand
-    // side; one inner basis at a time (the velocity block's is the larger); the
-    // system's fields (its state, residual and scratch, the two partial
-    // residuals of G and D alone) and the preconditioner's; the gathered lattices.
-    const double outer = (2.0 * options_.restart + 4) * n;
-    const int inner_restart = std::min(options_.restart, options_.max_inner_iterations);
-    const double inner = (2.0 * inner_restart + 2) * nv;
+    // The outer Krylov basis as large as it grew (solver/Fgmres.hpp), its work
+    // vector, the step and right-hand side; one inner basis at a time, as
+    // large as the largest grew, counted at the velocity block's size (the
+    // larger), and its work vector; the system's fields (its state, residual
+    // and scratch, the two partial residuals of G and D alone) and the
+    // preconditioner's; the gathered lattices.
+    const double outer = (outer_basis_ + 3.0) * n;
+    const double inner = (inner_basis_ + 1.0) * nv;
     const double fields = 9.0 * (nv + nq) + 2.0 * nv + 8.0 * nq;
     const double lattices = wide_.values_held() + compact_.values_held();
     const double bytes = sim_.communicator().sum(8.0 * (outer + inner + fields + lattices));
@@ -491,6 +493,7 @@ class SteadySolver {
         },
         [&](const View& in, const View& out) { precondition_dg(in, out); }, r, p, krylov);
     inner_iterations_ += result.iterations;
+    inner_basis_ = std::max(inner_basis_, result.basis_vectors);
     add_border(system, -border_dot(system, p), p);  // p - e (e . p): the fluid mean out
   }
 
@@ -503,6 +506,7 @@ class SteadySolver {
         ops, [&](const View& in, const View& out) { system.apply(&in, nullptr, out, work_q3_, kForward); },
         [&](const View& in, const View& out) { precondition_velocity(in, out); }, r, v, krylov);
     inner_iterations_ += result.iterations;
+    inner_basis_ = std::max(inner_basis_, result.basis_vectors);
   }
 
   // out = P^-1 in, block upper-triangular with LSC (see the top of the file).
@@ -542,6 +546,7 @@ class SteadySolver {
   LatticePreconditioner<Dim, ExecSpace> wide_, compact_;
   double wide_scale_ = 0, compact_scale_ = 0;
   long long inner_iterations_ = 0;
+  int outer_basis_ = 0, inner_basis_ = 0;  // the most vectors a solve's bases held
   View diagonal_inverse_, work_v_, work_v2_, work_v3_, work_q_, work_q2_, work_q3_, work_q_component_in_,
       work_q_component_out_, work_residual_q_;
 };
