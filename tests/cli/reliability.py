@@ -155,6 +155,12 @@ def class_1_counts():
          [TINY, "--output", out, "--set", "Discretization/Particle Spacing=0.001", "--set", "Run/Memory Limit=0.05"], 2,
          r"needs about 1000000 particles .* and about [0-9.]+ MB of memory .* but it has 50 MB \(Run/Memory Limit\)",
          absent(out))
+    out = fresh("memory-steady")
+    case("the steady solver's vectors are counted: a run that fits marching is refused solving",
+         [TINY, "--output", out, "--set", "Discretization/Particle Spacing=0.002", "--set", "Run/Memory Limit=0.4",
+          "--set", "Solver/Method=steady"], 2,
+         r"needs about 250000 particles .*; the steady solver's vectors alone need [0-9.]+ MB .*, but it has 400 MB",
+         absent(out))
     out = fresh("grid")
     case("a grid of Output/Grid Points that needs too much memory is refused before allocating",
          [TINY, "--output", out, "--set", "Output/Grid Points={1000000, 1000000}", "--set", "Output/Field Interval=1"], 2,
