@@ -11,6 +11,9 @@
 // pair for its own particle. Each particle's owned neighbours come first and
 // its ghosts after them, so the pair loop knows which pairs have a second
 // end to update without a test per pair.
+//
+// Fixed particles on one lattice hold no list: their rows are masks over
+// the lattice stencil (build_lattice_rows, core/LatticeRows.hpp).
 #include <Kokkos_Core.hpp>
 
 #include <string>
@@ -120,9 +123,9 @@ class NeighbourList {
     return geometry_.find_stencil_ids(space, label, offsets_, indices_, x, owned, pairs_, stencil);
   }
   // Each row's owned neighbours, then its ghosts, are put in the stencil's
-  // order: the order the rows keep as masks (to_lattice_rows), so that
-  // whatever is built from the list (the no-slip factors) meets the pairs
-  // in the order the pair loop visits them.
+  // order: the order of rows kept as masks (build_lattice_rows), so that a
+  // list and rows give the pair loop its pairs in the same order, and the
+  // same sums to the bit.
   void use_stencil(const ExecSpace& space, const LatticeStencil<Dim, MemorySpace>& stencil) {
     geometry_.use_stencil(stencil);
     const auto offsets = offsets_, ghosts_begin = ghosts_begin_, indices = indices_;

@@ -121,7 +121,6 @@ struct Particles {
   // the owned particles' own fields (start of step, rates) keep their size.
   void reserve_ghosts(int n) { grow(n, false); }
 
-
  private:
   void grow(int n, bool owned_fields) {
     if (n <= capacity() && (!owned_fields || n <= owned_capacity())) return;
