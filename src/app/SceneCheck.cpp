@@ -15,6 +15,7 @@
 #include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
 #include "io/Parameters.hpp"
+#include "solver/SteadyOptions.hpp"
 
 namespace poresph {
 namespace {
@@ -238,19 +239,16 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   // scene/ImagePieces.hpp): its values (2 bytes a voxel) and its distance
   // field, on the host and in the kernels' memory (4 + 4).
   if (scene.image.voxels) e.bytes_per_process += 10.0 * static_cast<double>(scene.image.voxels->count());
-  // The steady solver (solver/SteadySolver.hpp, as its bytes_per_particle
-  // counts): per owned particle, the outer Krylov basis at its whole
-  // restart, one inner basis at the velocity block's size and the solver's
-  // fields; per process, the two lattice preconditioners, gathered whole
-  // (about 12.5 values a lattice point each).
+  // The steady solver (as its bytes_per_particle counts): its vectors for
+  // the owned particles with the Krylov bases at their whole restart
+  // (steady_vector_values); per process, the two lattice preconditioners,
+  // gathered whole (about 12.5 values a lattice point each).
   double steady_per_process = 0;
   if (scene.steady_solver) {
-    const double unknowns = D + 1.0, velocity = D;
     const int restart = std::max(1, scene.solver.restart);
     const int inner_restart = std::max(1, std::min(restart, scene.solver.max_inner_iterations));
-    const double vectors = (2.0 * restart + 4) * unknowns + (2.0 * inner_restart + 2) * velocity +
-                           9.0 * unknowns + 2.0 * velocity + 8.0;
-    steady_per_process = 8.0 * (vectors * owned + 25.0 * static_cast<double>(e.lattice_points));
+    const double vectors = steady_vector_values(2.0 * restart + 1, 2.0 * inner_restart + 1, D * owned, owned);
+    steady_per_process = 8.0 * (vectors + 25.0 * static_cast<double>(e.lattice_points));
     e.bytes_per_process += steady_per_process;
   }
   // A warm start holds the stage before it while it sets up: the next

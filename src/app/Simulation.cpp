@@ -184,6 +184,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
 
   const double h = derived_.smoothing_length, dt = derived_.time_step;
   health_limits_ = HealthLimits{scene.density, scene.density_variation_limit, 0.25 * h / dt, h / (16 * dt * dt)};
+  if (fixed_) make_stencils();
   make_step_stages();
   if (start == Start::Empty) return;
 
@@ -242,7 +243,6 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood_only() {
     neighbourhood_.update_ghosts(particles_);
     return;
   }
-  if (fixed_) make_stencils();
   neighbourhood_.rebuild(space_, particles_);
   built_neighbourhood();
 }
@@ -261,20 +261,19 @@ void Simulation<Dim, ExecSpace>::built_neighbourhood() {
   pair_sums_.reserve(particles_.owned, !fixed_);
 }
 
-// Fixed particles: the stencils of the lattice's offsets, and rows as masks
-// over the pair stencil from the next build on.
+// Fixed particles, at set-up: the stencils of the lattice's offsets, from
+// the scene's spacing and kernel, and the pair stencil for the rows the
+// neighbourhood's builds make (core/LatticeRows.hpp).
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::make_stencils() {
-  if (pair_stencil_.size() == 0) {
-    std::array<double, Dim> spacing{};
-    spacing.fill(scene_.particle_spacing);  // the lattice is square (cubic): geometry/Lattice.hpp
-    const auto kernel = kernel_;
-    pair_stencil_ = LatticeStencil<Dim, MemorySpace>(spacing, neighbourhood_.reach(),
-                                                     [&](double r) { return kernel.derivative_over_r(r); });
-    if (extrapolate_walls_)
-      wall_stencil_ = LatticeStencil<Dim, MemorySpace>(spacing, neighbourhood_.reach(),
-                                                       [&](double r) { return kernel.value(r); });
-  }
+  std::array<double, Dim> spacing{};
+  spacing.fill(scene_.particle_spacing);  // the lattice is square (cubic): geometry/Lattice.hpp
+  const auto kernel = kernel_;
+  pair_stencil_ = LatticeStencil<Dim, MemorySpace>(spacing, neighbourhood_.reach(),
+                                                   [&](double r) { return kernel.derivative_over_r(r); });
+  if (extrapolate_walls_)
+    wall_stencil_ = LatticeStencil<Dim, MemorySpace>(spacing, neighbourhood_.reach(),
+                                                     [&](double r) { return kernel.value(r); });
   neighbourhood_.use_lattice_rows(pair_stencil_, scene_.particle_spacing);
 }
 
@@ -499,7 +498,6 @@ void Simulation<Dim, ExecSpace>::resume(long long steps, const typename Particle
     Kokkos::deep_copy(space_, Kokkos::subview(particles_.x, owned, Kokkos::ALL),
                       Kokkos::subview(x_at_build, owned, Kokkos::ALL));
     space_.fence();
-    if (fixed_) make_stencils();
     neighbourhood_.build(space_, particles_);
     built_neighbourhood();
     Kokkos::deep_copy(space_, Kokkos::subview(particles_.x, owned, Kokkos::ALL), current);

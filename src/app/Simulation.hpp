@@ -196,7 +196,7 @@ class Simulation {
   // What rests on a fresh neighbourhood: the cached pair geometry of fixed
   // particles, the boundary particles' fluid neighbours, room for the sums.
   void built_neighbourhood();
-  void make_stencils();       // fixed particles: the lattice stencils, before the lists are built
+  void make_stencils();       // fixed particles, at set-up: the lattice stencils the lists and rows read
   void find_pair_geometry();  // fixed particles: the lists' geometry, from the stencil or per entry
   // The stages of a step, in order (step_stages()).
   void make_step_stages();

@@ -97,8 +97,9 @@ class LatticeRows {
     static const std::string label_map = "poresph::LatticeRows::map";
     Kokkos::parallel_for(
         label_map, Kokkos::RangePolicy<ExecSpace>(space, 0, slots), KOKKOS_LAMBDA(int j) {
-          slot_of_site(site_of(j)) = j + 1;  // 0: no slot
-          if (j < owned) site(j) = site_of(j);
+          const int s = site_of(j);
+          slot_of_site(s) = j + 1;  // 0: no slot
+          if (j < owned) site(j) = s;
         });
     // The masks, and whether they hold every pair: a pair off the stencil,
     // an offset taken twice, or a neighbour the map does not give back

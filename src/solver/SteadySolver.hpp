@@ -174,17 +174,10 @@ class SteadySolver {
     report.rate_evaluations = system.rate_evaluations();
     report.partial_rate_evaluations = system.partial_rate_evaluations();
     report.solve_seconds = seconds_since(start) - report.setup_seconds;
-    // The outer Krylov basis as large as it grew (solver/Fgmres.hpp), its work
-    // vector, the step and right-hand side; one inner basis at a time, as
-    // large as the largest grew, counted at the velocity block's size (the
-    // larger), and its work vector; the system's fields (its state, residual
-    // and scratch, the two partial residuals of G and D alone) and the
-    // preconditioner's; the gathered lattices.
-    const double outer = (outer_basis_ + 3.0) * n;
-    const double inner = (inner_basis_ + 1.0) * nv;
-    const double fields = 9.0 * (nv + nq) + 2.0 * nv + 8.0 * nq;
+    // The vectors with the Krylov bases as large as they grew, and the gathered lattices.
+    const double vectors = steady_vector_values(outer_basis_, inner_basis_, nv, nq);
     const double lattices = wide_.values_held() + compact_.values_held();
-    const double bytes = sim_.communicator().sum(8.0 * (outer + inner + fields + lattices));
+    const double bytes = sim_.communicator().sum(8.0 * (vectors + lattices));
     const double particles = static_cast<double>(sim_.fluid_particles() + sim_.boundary_particles());
     report.bytes_per_particle = bytes / particles;
     return report;
