@@ -1,6 +1,7 @@
 // The same scene on all ranks of MPI_COMM_WORLD and on rank 0 alone gives
 // the same particles (position, velocity, density, matched by id) within
-// 1e-10 after 200 steps. CTest runs this with 1, 2, 3 and 4 ranks.
+// 1e-10 after 200 steps, and the same forces on its grains and walls
+// (diagnostics/SurfaceLoads.hpp). CTest runs this with 1, 2, 3 and 4 ranks.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 
 #include "Scenes.hpp"
 #include "app/Simulation.hpp"
+#include "diagnostics/SurfaceLoads.hpp"
 
 namespace poresph {
 namespace {
@@ -34,13 +36,28 @@ void stir(Sim& sim, double amplitude) {
   sim.compute_rates();
 }
 
-// Runs `steps` steps on `comm` and returns every particle's state on rank 0 of it.
+// The loads on every surface, one list: each grain's force and torque, the walls', the image's.
+template <int Dim>
+std::vector<double> flat(const SurfaceLoads<Dim>& loads) {
+  std::vector<double> values;
+  for (size_t g = 0; g < loads.grain_force.size(); ++g) {
+    values.insert(values.end(), loads.grain_force[g].begin(), loads.grain_force[g].end());
+    values.insert(values.end(), loads.grain_torque[g].begin(), loads.grain_torque[g].end());
+  }
+  values.insert(values.end(), loads.walls.begin(), loads.walls.end());
+  values.insert(values.end(), loads.image.begin(), loads.image.end());
+  return values;
+}
+
+// Runs `steps` steps on `comm` and returns every particle's state on rank 0
+// of it, and the loads on its surfaces into `loads`.
 template <int Dim>
 std::map<long long, State> run(const SceneConfig& scene, const Communicator& comm, double stir_amplitude,
-                               int steps = 200) {
+                               int steps, std::vector<double>& loads) {
   Simulation<Dim, Kokkos::Serial> sim(scene, Kokkos::Serial(), comm);
   if (stir_amplitude > 0) stir(sim, stir_amplitude);
   for (int s = 0; s < steps; ++s) sim.step();
+  loads = flat(surface_loads<Dim>(sim));
   // Fixed particles' pairs, other processes' ghosts and periodic images
   // among them, are lattice offsets: every process reads the one stencil,
   // and holds its rows as masks over it.
@@ -78,12 +95,23 @@ std::map<long long, State> run(const SceneConfig& scene, const Communicator& com
 template <int Dim = 2>
 void expect_same_on_any_number_of_ranks(const SceneConfig& scene, double stir_amplitude, int steps = 200) {
   const Communicator world;
-  const auto distributed = run<Dim>(scene, world, stir_amplitude, steps);
+  std::vector<double> distributed_loads, single_loads;
+  const auto distributed = run<Dim>(scene, world, stir_amplitude, steps, distributed_loads);
   if (world.rank() != 0) return;
   SceneConfig one_process = scene;  // same physics, the whole cell in one box
   one_process.process_grid.clear();
   for (auto& c : one_process.cuts) c.clear();
-  const auto single = run<Dim>(one_process, Communicator(MPI_COMM_SELF), stir_amplitude, steps);
+  const auto single = run<Dim>(one_process, Communicator(MPI_COMM_SELF), stir_amplitude, steps, single_loads);
+  ASSERT_EQ(distributed_loads.size(), single_loads.size());
+  double load_scale = 0, load_difference = 0;
+  for (size_t i = 0; i < single_loads.size(); ++i) {
+    load_scale = std::max(load_scale, std::abs(single_loads[i]));
+    load_difference = std::max(load_difference, std::abs(single_loads[i] - distributed_loads[i]));
+  }
+  if (scene.has_solid() || scene.walls != WallType::None) {
+    ASSERT_GT(load_scale, 0);
+  }
+  EXPECT_LE(load_difference, 1e-10 * load_scale) << "loads on the surfaces";
   ASSERT_EQ(distributed.size(), single.size());
   double v_scale = 0;
   for (const auto& [id, s] : single)

@@ -598,6 +598,17 @@ Kokkos::View<int*, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>:
 }
 
 template <int Dim, class ExecSpace>
+Kokkos::View<double* [Dim], typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>::surface_forces() {
+  neighbourhood_stage();
+  wall_pressure_stage();
+  Kokkos::View<double* [Dim], MemorySpace> force("surface_forces", particles_.owned);
+  compute_surface_forces(space_, particles_, neighbourhood_.list(), pair_sums_, kernel_, fluid_, pair_options_,
+                         no_slip_factors_, force);
+  space_.fence();
+  return force;
+}
+
+template <int Dim, class ExecSpace>
 typename Simulation<Dim, ExecSpace>::DensityStatistics Simulation<Dim, ExecSpace>::density_statistics() const {
   const auto rho = particles_.rho;
   const auto kind = particles_.kind;

@@ -150,6 +150,14 @@ class Simulation {
   // Per owned particle, the grain a grain-boundary particle belongs to; -1 for the others.
   Kokkos::View<int*, MemorySpace> grain_ids() const;
 
+  // The fluid's force on each owned particle of a surface (zero for fluid
+  // particles) at the current state, from the pair terms of its rates, so
+  // that it and the fluid's momentum change from the surfaces add to zero
+  // to round-off (physics/PairRates.hpp, compute_surface_forces). Brings
+  // pressures, ghosts and the wall pressure to the state first; the rates
+  // are left as they were.
+  Kokkos::View<double* [Dim], MemorySpace> surface_forces();
+
   // Neighbour-list rebuilds so far (the list is kept while particles move less than half the skin).
   long long neighbour_rebuilds() const { return neighbourhood_.builds(); }
   long long neighbour_pairs() const { return neighbourhood_.list().pairs(); }

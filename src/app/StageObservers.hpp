@@ -12,6 +12,7 @@
 #include "io/Checkpoints.hpp"
 #include "io/FieldFrames.hpp"
 #include "io/ProgressLine.hpp"
+#include "io/SurfaceForcesFile.hpp"
 
 namespace poresph {
 
@@ -20,6 +21,7 @@ const std::vector<ObserverMaker<Sim>>& stage_observers() {
   static const std::vector<ObserverMaker<Sim>> makers = {
       &ChannelProbe<Sim>::make,  &HealthWatch<Sim>::make, &PermeabilityProbe<Dim, Sim>::make,
       &FieldFrames<Dim, Sim>::make, &Checkpoints<Sim>::make, &ProgressObserver<Sim>::make,
+      &SurfaceForcesFile<Dim, Sim>::make,
   };
   return makers;
 }

@@ -60,6 +60,12 @@ struct PairLoopOptions {
   // as constants instead of read per pair. 0: read them.
   double uniform_mass = 0;
   double uniform_inverse_density = 0;
+  // A boundary particle's end of each pair with a fluid particle takes the
+  // reaction to what the fluid gains from it (PairDriver::add_reaction):
+  // the fluid's force on the surfaces, m times the boundary particle's
+  // acceleration sum. Off in the time loop (the surfaces do not move);
+  // Simulation::surface_forces turns it on.
+  bool surface_reactions = false;
 };
 
 // Which particles a term applies to: a list holding a term for fixed
@@ -247,8 +253,10 @@ struct PairDriver : Terms... {
   // continuity of its density (PairLoopOptions::wall_continuity). Otherwise
   // its end of every pair is left out, its terms would be thrown away, and a
   // pair of two boundary particles (a wall's or a grain's inside, about a
-  // tenth of a channel's pairs) is skipped.
+  // tenth of a channel's pairs) is skipped. Also with surface_reactions,
+  // whose boundary ends take the reactions (add_reaction).
   bool boundary_pairs = true;
+  bool surface_reactions = false;  // PairLoopOptions
   double uniform_mass = 0, uniform_inverse_density = 0;  // PairLoopOptions
 
   PairDriver(const PairTermInputs<Dim, ExecSpace>& in, const NeighbourList<Dim, ExecSpace>& list,
@@ -260,7 +268,8 @@ struct PairDriver : Terms... {
         kernel(W),
         cached(in.cached),
         lattice_rows(list.on_lattice_rows()),
-        boundary_pairs(in.options.wall_continuity),
+        boundary_pairs(in.options.wall_continuity || in.options.surface_reactions),
+        surface_reactions(in.options.surface_reactions),
         uniform_mass(in.options.uniform_mass),
         uniform_inverse_density(in.options.uniform_inverse_density) {}
 
@@ -305,10 +314,37 @@ struct PairDriver : Terms... {
     for (int d = 0; d < Dim; ++d) acceleration[d] = -0.0;
     SeenVelocity<Dim> seen{1.0, g.v};
     (add_term<Terms, true>(sum, acceleration, self, other, g, seen, shared), ...);
-    if (WithSurfaces && self.kind != kFluid) return;  // boundary particles move as their surface prescribes
+    if (WithSurfaces && self.kind != kFluid) {  // boundary particles move as their surface prescribes
+      if (surface_reactions && other.kind == kFluid) add_reaction(sum, self, other, g, entry, shared);
+      return;
+    }
+    add_fluid_end(sum, acceleration, self, other, g, entry, shared, seen);
+  }
+  // What a fluid end gains from its neighbour, beyond the terms of boundary ends.
+  KOKKOS_FORCEINLINE_FUNCTION void add_fluid_end(Sums& sum, Vec<Dim>& acceleration, const PairEnd<Dim>& self,
+                                                 const PairEnd<Dim>& other, const EndGeometry<Dim>& g, int entry,
+                                                 const Shared& shared, SeenVelocity<Dim>& seen) const {
     (static_cast<const Terms&>(*this).see(self, other, g, entry, seen), ...);
     (add_term<Terms, false>(sum, acceleration, self, other, g, seen, shared), ...);
     for (int d = 0; d < Dim; ++d) sum.acceleration(d) += acceleration[d];
+  }
+  // PairLoopOptions::surface_reactions: boundary particle `self` takes into
+  // its acceleration minus what fluid particle `fluid` gains from it, over
+  // the mass ratio, so that m_self a_self = -m_fluid a_fluid and the pair
+  // conserves momentum. The gain is formed as the fluid's own end forms it
+  // (the same terms, the same no-slip factor), with the whole viscous pull:
+  // a wall drag kept apart (FluidProperties::separate_wall_drag) must be off.
+  // Not inlined into the pair loop of the time loop, which never takes it.
+  [[gnu::noinline]] KOKKOS_FUNCTION void add_reaction(Sums& sum, const PairEnd<Dim>& self, const PairEnd<Dim>& fluid,
+                                           const EndGeometry<Dim>& g, int entry, const Shared& shared) const {
+    Sums gained;
+    Vec<Dim> acceleration;
+    for (int d = 0; d < Dim; ++d) acceleration[d] = -0.0;
+    const EndGeometry<Dim> seen_from_fluid{-1.0 * g.r, -1.0 * g.v, g.F, -g.sign};
+    SeenVelocity<Dim> seen{1.0, seen_from_fluid.v};
+    add_fluid_end(gained, acceleration, fluid, self, seen_from_fluid, entry, shared, seen);
+    const double ratio = -fluid.m / self.m;
+    for (int d = 0; d < Dim; ++d) sum.acceleration(d) += ratio * gained.acceleration(d);
   }
 
   // Whether row a of the list has a boundary particle (a or a neighbour), as
@@ -339,6 +375,7 @@ struct PairDriver : Terms... {
     const PairEnd<Dim> end_b = end_of<Surfaces>(b);
     // Which ends need the pair's terms: a boundary particle only with
     // boundary_pairs (a ghost end never: its owner adds the pair to it).
+    // With surface_reactions, a boundary end of a pair with a fluid particle takes the reaction.
     const bool a_takes = !Surfaces || boundary_pairs || end_a.kind == kFluid;
     const bool b_takes = BothEnds && (!Surfaces || boundary_pairs || end_b.kind == kFluid);
     if (!a_takes && !b_takes) return;

@@ -155,6 +155,45 @@ void compute_pair_rates_of(const ExecSpace& space, const Particles<Dim, typename
   run_pair_finish(policy, inputs, sums, body_force, terms);
 }
 
+// The fluid's force on each owned boundary particle, into `force` (zero
+// for fluid particles): the pair loop with PairLoopOptions::
+// surface_reactions, whose boundary ends then hold the reactions to what
+// the fluid gains from them (PairDriver::add_reaction), times their mass.
+// The same terms as the rates of sum_pair_rates with the same arguments,
+// so that the fluid's momentum change from its surfaces and the surfaces'
+// force add to zero to round-off. The particles' rates are left as they
+// were; the sums are left zero.
+template <int Dim, class ExecSpace>
+void compute_surface_forces(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                            const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                            const QuinticKernel<Dim>& kernel, const FluidProperties& fluid,
+                            const PairLoopOptions& options, const NoSlipFactors<Dim, ExecSpace>& no_slip,
+                            const Kokkos::View<double* [Dim], typename ExecSpace::memory_space>& force) {
+  FluidProperties whole_drag = fluid;
+  whole_drag.separate_wall_drag = false;  // the reaction takes the whole viscous pull
+  PairLoopOptions reactions = options;
+  reactions.surface_reactions = true;
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
+  const PairTermInputs<Dim, ExecSpace> inputs{P, whole_drag, reactions, no_slip, neighbours.has_geometry()};
+  pair_detail::with_scene_terms<Dim, ExecSpace>(inputs, [&](auto terms) {
+    run_pair_loop(policy, inputs, neighbours, sums, kernel, terms);
+    const int count = pair_detail::sums_of<Dim, ExecSpace>(terms);
+    using Sums = PairRateSums<Dim, 1>;
+    const auto Q = P;
+    const auto totals = sums;
+    static const std::string label = "poresph::surface_forces";
+    Kokkos::parallel_for(
+        label, policy, KOKKOS_LAMBDA(int a) {
+          const bool boundary = Q.kind(a) != kFluid;
+          for (int c = 0; c < count; ++c) {
+            const double total = totals.take(a, c);  // taken always: the copies return to zero
+            const int d = c - Sums::acceleration_begin;
+            if (d >= 0 && d < Dim) force(a, d) = boundary ? Q.m(a) * total : 0.0;
+          }
+        });
+  });
+}
+
 // Both: the rates of all owned particles.
 template <int Dim, class ExecSpace>
 void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
