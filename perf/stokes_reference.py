@@ -106,13 +106,13 @@ problem newton([du, dv, dp], [uu, vv, pp]) =
                 + (u*dx(u) + v*dy(u))*uu + (u*dx(v) + v*dy(v))*vv
                 - p*(dx(uu) + dy(vv)) - pp*(dx(u) + dy(v)) - 1e-12*p*pp)
     - int2d(Th)(F*{test})
-    + on(5, du=0, dv=0);
+    + on({grains}, du=0, dv=0);
 problem oseen([u, v, p], [uu, vv, pp]) =
     int2d(Th)(nu*(dx(u)*dx(uu) + dy(u)*dy(uu) + dx(v)*dx(vv) + dy(v)*dy(vv))
               + (uo*dx(u) + vo*dy(u))*uu + (uo*dx(v) + vo*dy(v))*vv
               - p*(dx(uu) + dy(vv)) - pp*(dx(u) + dy(v)) - 1e-12*p*pp)
     - int2d(Th)(F*{test})
-    + on(5, u=0, v=0);
+    + on({grains}, u=0, v=0);
 for (int i = 1; i <= {newton}; i++) {{
     iterations = i;
     newton;
@@ -143,6 +143,27 @@ if (!(change < {tolerance}) || !(speed > 0)) {{
 """
 
 
+# Grain i's boundary is label GRAIN_LABEL + i (the cell's sides are 1-4).
+GRAIN_LABEL = 5
+
+
+def grain_force_lines(grains, cell, x0, y0):
+    """FreeFem++ lines printing "GRAIN i fx fy torque" for each grain: the
+    fluid's force on it per unit density and depth, and its torque about its
+    centre, from the kinematic stress -p I + nu (grad u + grad u^T) on its
+    boundary. N is the fluid's outward normal, into the grain: the grain's
+    outward normal is -N."""
+    lines = ["macro tx() (-p*N.x + nu*(2*dx(u)*N.x + (dy(u) + dx(v))*N.y)) //",
+             "macro ty() (-p*N.y + nu*((dy(u) + dx(v))*N.x + 2*dy(v)*N.y)) //"]
+    for i, (cx, cy, _) in enumerate(grains):
+        cx = x0 + (cx - x0) % cell
+        cy = y0 + (cy - y0) % cell
+        label = GRAIN_LABEL + i
+        lines.append(f"cout << \"GRAIN {i} \" << -int1d(Th, {label})(tx) << \" \" << -int1d(Th, {label})(ty) << \" \""
+                     f" << -int1d(Th, {label})((x - {cx!r})*ty - (y - {cy!r})*tx) << endl;")
+    return lines
+
+
 def edp(grains, cell, x0, y0, segments, nu, force, drive, grain_refinement, equations="stokes"):
     h = cell / segments
     title = "Stokes" if equations == "stokes" else "Navier-Stokes"
@@ -160,9 +181,11 @@ def edp(grains, cell, x0, y0, segments, nu, force, drive, grain_refinement, equa
         # The grain's image inside the translated cell.
         cx = x0 + (cx - x0) % cell
         cy = y0 + (cy - y0) % cell
-        lines.append(f"border grain{i}(t=0, 2*pi) {{x = {cx!r} + {r!r}*cos(t); y = {cy!r} + {r!r}*sin(t); label = 5;}}")
+        lines.append(f"border grain{i}(t=0, 2*pi) {{x = {cx!r} + {r!r}*cos(t); y = {cy!r} + {r!r}*sin(t); "
+                     f"label = {GRAIN_LABEL + i};}}")
         parts.append(f"grain{i}(-{max(8, math.ceil(2 * math.pi * r * grain_refinement / h))})")
     along, across = ("ux", "uy") if drive == "x" else ("uy", "ux")
+    grain_labels = ", ".join(str(GRAIN_LABEL + i) for i in range(len(grains)))
     lines += [
         f"mesh Th = buildmesh({' + '.join(parts)});",
         "fespace Wh(Th, [P2, P2, P1], periodic=[[1, x], [3, x], [2, y], [4, y]]);",
@@ -171,7 +194,7 @@ def edp(grains, cell, x0, y0, segments, nu, force, drive, grain_refinement, equa
         "solve stokes([u, v, p], [uu, vv, pp]) =",
         "    int2d(Th)(nu*(dx(u)*dx(uu) + dy(u)*dy(uu) + dx(v)*dx(vv) + dy(v)*dy(vv))",
         "              - p*(dx(uu) + dy(vv)) - pp*(dx(u) + dy(v)) - 1e-12*p*pp)",
-        f"    - int2d(Th)(F*{'uu' if drive == 'x' else 'vv'}) + on(5, u=0, v=0);",
+        f"    - int2d(Th)(F*{'uu' if drive == 'x' else 'vv'}) + on({grain_labels}, u=0, v=0);",
     ]
     if equations == "stokes":
         lines += [
@@ -180,11 +203,12 @@ def edp(grains, cell, x0, y0, segments, nu, force, drive, grain_refinement, equa
             f'cout << "RESULT " << Th.nt << " " << Wh.ndof << " " << nu*{along}/F << " "'
             f' << nu*{across}/F << " " << porosity << endl;',
         ]
+        lines += grain_force_lines(grains, cell, x0, y0)
     else:
         stokes_along = f"int2d(Th)({'u' if drive == 'x' else 'v'})/(L*L)"
         lines += [
             "cout.precision(12);",
-            NAVIER_STOKES.format(stokes_along=stokes_along, test="uu" if drive == "x" else "vv",
+            NAVIER_STOKES.format(stokes_along=stokes_along, test="uu" if drive == "x" else "vv", grains=grain_labels,
                                  newton=NEWTON_ITERATIONS, picard=PICARD_ITERATIONS, tolerance=TOLERANCE),
             "real ux = int2d(Th)(u)/(L*L), uy = int2d(Th)(v)/(L*L), porosity = int2d(Th)(1.)/(L*L);",
             f'cout << "RESULT " << Th.nt << " " << Wh.ndof << " " << nu*{along}/F << " "'
