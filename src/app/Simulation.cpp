@@ -27,6 +27,14 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
     largest_side = std::max(largest_side, scene.cell_size[d]);
   }
   force_norm = std::sqrt(force_norm);
+  if (scene.moving_grains()) {
+    // A settling grain's weight is held by pressure differences in the
+    // fluid, as a body force's would be: gravity counts as a body force of
+    // up to the solid's density over the fluid's.
+    double gravity = 0.0;
+    for (int d = 0; d < dim; ++d) gravity += scene.gravity[d] * scene.gravity[d];
+    force_norm = std::max(force_norm, std::sqrt(gravity) * std::max(1.0, scene.grain_density / scene.density));
+  }
   // A component can be finite while its square overflows; either way no
   // time step follows from it, and "no flow scale" would be the wrong reason.
   if (!std::isfinite(force_norm)) {
@@ -204,7 +212,57 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
         << " boundary particles); refine the spacing or leave the grains room";
     throw std::invalid_argument(msg.str());
   }
+  if (scene.moving_grains()) start_moving_grains();
   compute_rates();
+  if (rigid_grains_.moving()) rigid_grains_.take_loads(particles_, comm_);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::start_moving_grains() {
+  particles_.keep_grain_index();
+  const int owned = particles_.owned;
+  Kokkos::deep_copy(space_, Kokkos::subview(particles_.grain, Kokkos::make_pair(0, owned)), grain_ids());
+  const auto kind = particles_.kind;
+  const auto m = particles_.m;
+  double fluid_mass = 0;
+  static const std::string label = "poresph::fluid_mass";
+  Kokkos::parallel_reduce(
+      label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned),
+      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid ? m(i) : 0.0; }, fluid_mass);
+  rigid_grains_ = RigidGrains<Dim, ExecSpace>(scene_, comm_.sum(fluid_mass));
+  for (int d = 0; d < Dim; ++d) body_force_[d] = rigid_grains_.fluid_body_force()[d];
+  pair_options_.surface_reactions = true;
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::place_grains() {
+  rigid_grains_.place(space_, particles_);
+  space_.fence();
+  const auto& bodies = rigid_grains_.bodies();
+  for (size_t g = 0; g < bodies.size(); ++g)
+    for (int d = 0; d < Dim; ++d) {
+      double c = bodies[g].centre[d];
+      if (scene_.periodic[d]) c -= scene_.cell_size[d] * std::floor(c / scene_.cell_size[d]);
+      scene_.grains[g].centre[d] = c;
+    }
+  solid_map_ = make_solid_map<Dim, MemorySpace>(scene_, kernel_.cutoff);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::grains_predict_stage() {
+  rigid_grains_.predict(derived_.time_step);
+  place_grains();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::grain_loads_stage() {
+  rigid_grains_.take_loads(particles_, comm_);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::grains_correct_stage() {
+  rigid_grains_.correct(derived_.time_step);
+  place_grains();
 }
 
 template <int Dim, class ExecSpace>
@@ -326,12 +384,16 @@ void Simulation<Dim, ExecSpace>::compute_rates(RateTerms terms) {
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::make_step_stages() {
   using S = Simulation;
-  step_stages_ = {{"poresph::step::predict", &S::predict_stage},
-                  {"poresph::step::neighbourhood", &S::neighbourhood_stage}};
+  const bool grains_move = scene_.moving_grains();
+  step_stages_ = {{"poresph::step::predict", &S::predict_stage}};
+  if (grains_move) step_stages_.push_back({"poresph::step::grains_predict", &S::grains_predict_stage});
+  step_stages_.push_back({"poresph::step::neighbourhood", &S::neighbourhood_stage});
   if (extrapolate_walls_) step_stages_.push_back({"poresph::step::wall_pressure", &S::wall_pressure_stage});
   step_stages_.push_back({"poresph::step::pair_rates", &S::pair_rates_stage});
   step_stages_.push_back({"poresph::step::finish", &S::finish_stage});
+  if (grains_move) step_stages_.push_back({"poresph::step::grain_loads", &S::grain_loads_stage});
   step_stages_.push_back({"poresph::step::correct", &S::correct_stage});
+  if (grains_move) step_stages_.push_back({"poresph::step::grains_correct", &S::grains_correct_stage});
   if (particles_.has_shifting || (!fixed_ && !solid_map_.empty()))
     step_stages_.push_back({"poresph::step::constraints", &S::constraints_stage});
   step_stages_.push_back({"poresph::step::check", &S::check_stage});

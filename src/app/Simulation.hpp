@@ -23,6 +23,7 @@
 #include "physics/GrainContact.hpp"
 #include "physics/GridInterpolation.hpp"
 #include "physics/PairRates.hpp"
+#include "physics/RigidGrains.hpp"
 #include "physics/TimeStep.hpp"
 #include "physics/WallPressure.hpp"
 
@@ -149,6 +150,8 @@ class Simulation {
 
   // Per owned particle, the grain a grain-boundary particle belongs to; -1 for the others.
   Kokkos::View<int*, MemorySpace> grain_ids() const;
+  // Moving grains: their state (centres, velocities, spins, loads); empty when they hold still.
+  const RigidGrains<Dim, ExecSpace>& rigid_grains() const { return rigid_grains_; }
 
   // The fluid's force on each owned particle of a surface (zero for fluid
   // particles) at the current state, from the pair terms of its rates, so
@@ -217,6 +220,12 @@ class Simulation {
   void constraints_stage();      // "constraints": shifting, particles put back out of grains
   void check_stage();            // "check": the clock, and the step's health
   void resummation_stage();      // "density resummation": every Density Resummation Interval steps
+  // Moving grains (physics/RigidGrains.hpp):
+  void grains_predict_stage();   // "grains predict": grains to the mid-point, their particles placed
+  void grain_loads_stage();      // "grain loads": the fluid's force and torque on them, their accelerations
+  void grains_correct_stage();   // "grains correct": the whole step, their particles placed
+  void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity
+  void place_grains();           // the grains' particles where the grains are, and the solid map with them
   // Stops the run if the step left a particle count change or an unhealthy
   // particle; known_healthy: the corrector found none here (only the count
   // is left to check).
@@ -238,6 +247,7 @@ class Simulation {
   PairSums<ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;
+  RigidGrains<Dim, ExecSpace> rigid_grains_;  // Grains/Motion = free or rotating
   long long surface_corrections_ = 0;  // on this process
   double deepest_correction_ = 0.0;
   FluidProperties fluid_;

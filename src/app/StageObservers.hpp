@@ -11,6 +11,7 @@
 #include "diagnostics/StageSetting.hpp"
 #include "io/Checkpoints.hpp"
 #include "io/FieldFrames.hpp"
+#include "io/GrainsHistory.hpp"
 #include "io/ProgressLine.hpp"
 #include "io/SurfaceForcesFile.hpp"
 
@@ -21,7 +22,7 @@ const std::vector<ObserverMaker<Sim>>& stage_observers() {
   static const std::vector<ObserverMaker<Sim>> makers = {
       &ChannelProbe<Sim>::make,  &HealthWatch<Sim>::make, &PermeabilityProbe<Dim, Sim>::make,
       &FieldFrames<Dim, Sim>::make, &Checkpoints<Sim>::make, &ProgressObserver<Sim>::make,
-      &SurfaceForcesFile<Dim, Sim>::make,
+      &SurfaceForcesFile<Dim, Sim>::make, &GrainsHistory<Dim, Sim>::make,
   };
   return makers;
 }

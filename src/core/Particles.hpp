@@ -54,6 +54,9 @@ struct Particles {
   // unless keep_level_start(). Owned slots; the ghost slots are scratch.
   Vector v_level_start;
   Scalar p_level_start;
+  // Moving grains (physics/RigidGrains.hpp): the grain a boundary particle
+  // belongs to, -1 for the others; empty when the grains hold still.
+  Kokkos::View<int*, MemorySpace> grain;
 
   int owned = 0;
   int ghosts = 0;
@@ -61,6 +64,7 @@ struct Particles {
   bool has_shifting = false;
   bool has_level_start = false;
   bool fixed_positions = false;  // fix_positions()
+  bool has_grain_index = false;  // keep_grain_index()
 
   int total() const { return owned + ghosts; }
 
@@ -72,12 +76,16 @@ struct Particles {
   void for_each_ghost_field(F&& f) const {
     for_each_changing_field(f);
     f(m), f(kind), f(id);
-    if (has_surfaces) f(wall_vector), f(wall_scalar);
+    if (has_surfaces && !has_grain_index) f(wall_vector);  // else a changing field
+    if (has_surfaces) f(wall_scalar);
+    if (has_grain_index) f(grain);
   }
-  // What changes between neighbour-list rebuilds (ghost refresh).
+  // What changes between neighbour-list rebuilds (ghost refresh): with
+  // moving grains, a boundary particle's offset from its turning grain's centre too.
   template <class F>
   void for_each_changing_field(F&& f) const {
     f(x), f(v), f(rho), f(p), f(pressure_term), f(inverse_density);
+    if (has_grain_index) f(wall_vector);
   }
   // Everything an owned particle is, for migration to another process.
   template <class F>
@@ -91,6 +99,12 @@ struct Particles {
   }
   int capacity() const { return static_cast<int>(x.extent(0)); }              // slots a ghost may take
   int owned_capacity() const { return static_cast<int>(v_start.extent(0)); }  // slots an owned particle may take
+
+  // From now on each particle carries the grain it belongs to (`grain`, -1 for none).
+  void keep_grain_index() {
+    has_grain_index = true;
+    if (static_cast<int>(grain.extent(0)) < capacity()) grain = Kokkos::View<int*, MemorySpace>("grain", capacity());
+  }
 
   // From now on the particles carry their level start (v_level_start, p_level_start).
   void keep_level_start() {
@@ -138,6 +152,7 @@ struct Particles {
     f(pressure_term, "pressure_term"), f(inverse_density, "inverse_density");
     f(kind, "kind"), f(id, "id");
     if (has_surfaces) f(wall_vector, "wall_vector"), f(wall_scalar, "wall_scalar");
+    if (has_grain_index) f(grain, "grain");
     // Owned, but the ghost slots are scratch for the level's start's own ghosts (Simulation::warm_start).
     if (has_level_start) f(v_level_start, "v_level_start"), f(p_level_start, "p_level_start");
     if (!owned_fields) return;

@@ -158,6 +158,20 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Inline", Array<double>(), "Grains in the XML: cx, cy, r, cx, cy, r, ... (cx, cy, cz, r in 3D).",
           reals_in(-kHuge, kHuge));
     s.set("Allow Overlap", false, "Accept overlapping grains; otherwise an overlap is an error naming them.");
+    s.set("Motion", std::string("fixed"),
+          "'fixed': the grains hold still. 'free': each grain is a rigid body that the fluid's force and torque "
+          "(summed over its boundary particles from the pair terms) and Grains/Gravity move and turn. "
+          "'rotating': each grain keeps its centre and turns freely. Moving grains need moving fluid "
+          "(Discretization/Particle Motion = lagrangian) and Grains/Density.",
+          one_of({"fixed", "free", "rotating"}));
+    s.set("Density", 0.0, "Density of the grains' solid (kg/m^3), for their mass and moment of inertia "
+                          "(Grains/Motion free or rotating).",
+          real_in(0.0, kHuge));
+    s.set("Gravity", Array<double>(),
+          "Gravity (m/s^2), one value per direction, on moving grains and the fluid alike. In a periodic cell the "
+          "suspension is held up as a whole by a uniform pressure gradient on fluid and grains by volume, so "
+          "that the grains settle against the fluid (docs/method.md, 'Grains that move'). Empty: none.",
+          reals_in(-kHuge, kHuge));
     auto& p = s.sublist("Random Pack", false,
                         "A random periodic pack of grains made at set-up (src/geometry/RandomPack.hpp: radii drawn "
                         "to the porosity, grains grown from random centres by collective rearrangement), the same "

@@ -541,10 +541,16 @@ struct FinishPairRates : Terms... {
   PairSums<ExecSpace> sums;
   Vec<Dim> body_force;
   bool wall_continuity;
+  bool surface_reactions;  // a boundary particle's dv/dt is then its reaction sum (PairDriver::add_reaction)
 
   FinishPairRates(const PairTermInputs<Dim, ExecSpace>& in, const PairSums<ExecSpace>& pair_sums,
                   const Vec<Dim>& force)
-      : Terms(in)..., P(in.particles), sums(pair_sums), body_force(force), wall_continuity(in.options.wall_continuity) {}
+      : Terms(in)...,
+        P(in.particles),
+        sums(pair_sums),
+        body_force(force),
+        wall_continuity(in.options.wall_continuity),
+        surface_reactions(in.options.surface_reactions) {}
 
   KOKKOS_INLINE_FUNCTION void operator()(int a) const {
     const bool a_is_fluid = P.kind(a) == kFluid;
@@ -552,7 +558,7 @@ struct FinishPairRates : Terms... {
     P.drhodt(a) = a_is_fluid || wall_continuity ? drhodt : 0.0;
     for (int d = 0; d < Dim; ++d) {
       const double pairs = sums.take(a, Sums::acceleration_begin + d);
-      P.dvdt(a, d) = a_is_fluid ? pairs + body_force[d] : 0.0;
+      P.dvdt(a, d) = a_is_fluid ? pairs + body_force[d] : surface_reactions ? pairs : 0.0;
     }
     (static_cast<const Terms&>(*this).finish(P, a, a_is_fluid, TermTotals<ExecSpace>{sums, a, offset_of<Terms>}), ...);
   }

@@ -93,6 +93,39 @@ double spacing_across_throat(const SceneConfig& scene, double n) {
   throw ParameterError(msg.str());
 }
 
+// Grains/Motion, Density and Gravity: moving grains are rigid bodies in a
+// moving fluid (physics/RigidGrains.hpp).
+void read_grain_motion(const ParameterList& grains, SceneConfig& scene) {
+  const auto motion = grains.get<std::string>("Motion");
+  scene.grain_motion = motion == "free" ? GrainMotion::Free : motion == "rotating" ? GrainMotion::Rotating
+                                                                                   : GrainMotion::Fixed;
+  scene.grain_density = grains.get<double>("Density");
+  const auto gravity = grains.get<Array<double>>("Gravity");
+  const int dim = scene.dimension;
+  if (!gravity.empty() && static_cast<int>(gravity.size()) != dim)
+    throw ParameterError("Grains/Gravity must have one value per direction (" + std::to_string(dim) + ")");
+  for (int d = 0; d < static_cast<int>(gravity.size()); ++d) scene.gravity[d] = gravity[d];
+  const bool has_gravity = scene.gravity[0] != 0 || scene.gravity[1] != 0 || scene.gravity[2] != 0;
+  if (scene.grain_motion == GrainMotion::Fixed) {
+    if (has_gravity)
+      throw ParameterError("Grains/Gravity acts on moving grains: with Grains/Motion = fixed it would do nothing; "
+                           "drive the fluid with Fluid/Body Force");
+    return;
+  }
+  if (scene.grains.empty())
+    throw ParameterError("Grains/Motion = " + motion + " moves grains, and the scene has none (Grains/File, "
+                         "Grains/Inline or Grains/Random Pack)");
+  if (scene.particle_motion != ParticleMotion::Lagrangian)
+    throw ParameterError("Grains/Motion = " + motion + " needs a fluid that moves with them: set "
+                         "Discretization/Particle Motion = lagrangian (fixed particles stay on their lattice)");
+  if (!(scene.grain_density > 0))
+    throw ParameterError("Grains/Motion = " + motion + " needs Grains/Density (kg/m^3) for the grains' mass and "
+                         "moment of inertia");
+  if (scene.allow_overlapping_grains)
+    throw ParameterError("Grains/Motion = " + motion + " takes grains that do not overlap: a grain's boundary "
+                         "particles belong to it alone (set Grains/Allow Overlap = false)");
+}
+
 // The Image sublist: what it asks for, checked one by one; the image is
 // then read in pieces and checked against the rest of the scene
 // (scene/ImageScene.hpp). Parsed after Fluid, Run and Parallel, so that the
@@ -308,6 +341,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
       scene.allow_overlapping_grains = scene.allow_overlapping_grains || spec.contacts;
     }
     check_grains(scene.grains, scene);
+    read_grain_motion(grains, scene);
     if (across_throat > 0) scene.particle_spacing = spacing_across_throat(scene, across_throat);
     const auto throats = check_pores(scene);
     scene.warnings.insert(scene.warnings.end(), throats.begin(), throats.end());

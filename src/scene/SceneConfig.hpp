@@ -66,6 +66,10 @@ enum class ParticleMotion { Fixed, Lagrangian };
 // equation (the paper).
 enum class WallPressure { Extrapolated, Continuity };
 enum class Backend { Default, Serial, OpenMP };
+// Whether grains move: Fixed, Free (rigid bodies that translate and turn
+// under the fluid's force and torque and gravity), Rotating (centres held,
+// turning freely). physics/RigidGrains.hpp.
+enum class GrainMotion { Fixed, Free, Rotating };
 
 struct SceneConfig {
   std::string name = "scene";
@@ -99,6 +103,10 @@ struct SceneConfig {
   // Empty: no grains, and none of their machinery runs.
   std::vector<Grain> grains;
   bool allow_overlapping_grains = false;
+  GrainMotion grain_motion = GrainMotion::Fixed;
+  double grain_density = 0.0;          // kg/m^3, for moving grains' mass and inertia
+  std::array<double, 3> gravity{};     // on moving grains and the fluid (Grains/Gravity)
+  bool moving_grains() const { return grain_motion != GrainMotion::Fixed && !grains.empty(); }
   // How the grains were made when PoreSPH made them (Grains/Random Pack):
   // the header of grains_used.txt. Empty for grains given in the scene.
   std::string grains_note;

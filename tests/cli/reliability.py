@@ -239,6 +239,32 @@ def class_3_grains():
     for name, grain_file, message in cases:
         case(name + " is refused", [TINY, "--output", base, "--set", f"Grains/File={grain_file}"], 2, message,
              absent(base))
+    # Grains that move: what they need, said before anything runs.
+    grain = "Grains/Inline={0.5, 0.5, 0.2}"
+    lagrangian = "Discretization/Particle Motion=lagrangian"
+    motion_cases = [
+        ("moving grains in a fixed fluid", [grain, "Grains/Motion=free", "Grains/Density=2000"],
+         r"Grains/Motion = free needs a fluid that moves with them: set Discretization/Particle Motion = lagrangian"),
+        ("moving grains without a density", [grain, "Grains/Motion=rotating", lagrangian],
+         r"Grains/Motion = rotating needs Grains/Density"),
+        ("moving grains without grains", ["Grains/Motion=free", "Grains/Density=2000", lagrangian],
+         r"Grains/Motion = free moves grains, and the scene has none"),
+        ("gravity on grains that hold still", [grain, "Grains/Gravity={0, -9.81}"],
+         r"Grains/Gravity acts on moving grains"),
+        ("gravity of the wrong dimension", [grain, "Grains/Motion=free", "Grains/Density=2000", lagrangian,
+                                            "Grains/Gravity={0, 0, -9.81}"],
+         r"Grains/Gravity must have one value per direction \(2\)"),
+        ("a negative grain density", [grain, "Grains/Density=-1"], r"Grains/Density"),
+    ]
+    for name, settings, message in motion_cases:
+        case(name + " is refused", [TINY, "--output", base] + sets(*settings), 2, message, absent(base))
+    moving = fresh("moving-grains")
+    moving_scene = [grain, "Grains/Motion=free", "Grains/Density=2000", lagrangian]
+    good_run(moving, *moving_scene)
+    case("a restart of moving grains is refused (their state is not in the checkpoint)",
+         [TINY, "--output", moving + "-restarted", "--restart", os.path.join(moving, "checkpoint.h5")]
+         + sets(*moving_scene), 2,
+         r"a checkpoint does not keep moving grains' velocities and spins yet", absent(moving + "-restarted"))
 
 
 def class_5_output_directories():

@@ -1,0 +1,293 @@
+#pragma once
+// Grains that move (Grains/Motion = free or rotating): each grain is a rigid
+// body, a disc in 2D (per metre of depth) or a sphere in 3D, of the solid's
+// density. The fluid's force and torque on it are the sums over its boundary
+// particles of the reactions to what the fluid gains from them in the pair
+// loop (PairLoopOptions::surface_reactions), so that fluid and grains
+// exchange momentum exactly. Every process holds every grain's state and
+// advances it alike, from loads summed over the processes; each process
+// then places its own boundary particles: x = c + R b, v = U + omega x R b
+// for a particle at b from the centre, R the grain's turn.
+//
+// The grains step with the fluid's predictor-corrector (physics/
+// PredictorCorrector.hpp): to the mid-point with the old accelerations,
+// then the whole step from the start with the mid-point's, the centre by
+// the trapezoidal rule. Gravity acts on grains and fluid; in a periodic
+// direction a uniform pressure gradient on both by volume holds the cell's
+// contents up as a whole (it has nothing else to rest on), so the grains
+// settle against the fluid and the total momentum stays what it was.
+#include <Kokkos_Core.hpp>
+
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/Math.hpp"
+#include "core/Particles.hpp"
+#include "core/Vec.hpp"
+#include "parallel/Communicator.hpp"
+#include "scene/SceneConfig.hpp"
+
+namespace poresph {
+
+// Angular quantities: about z in 2D (one component), a vector in 3D.
+template <int Dim>
+constexpr int spin_components() {
+  return Dim == 2 ? 1 : 3;
+}
+
+// omega x r.
+template <int Dim>
+KOKKOS_INLINE_FUNCTION void spin_cross(const double* omega, const double* r, double* out) {
+  if constexpr (Dim == 2) {
+    out[0] = -omega[0] * r[1];
+    out[1] = omega[0] * r[0];
+  } else {
+    out[0] = omega[1] * r[2] - omega[2] * r[1];
+    out[1] = omega[2] * r[0] - omega[0] * r[2];
+    out[2] = omega[0] * r[1] - omega[1] * r[0];
+  }
+}
+
+// r x F: the torque (one component about z in 2D).
+template <int Dim>
+KOKKOS_INLINE_FUNCTION void moment_of(const double* r, const double* F, double* out) {
+  if constexpr (Dim == 2) {
+    out[0] = r[0] * F[1] - r[1] * F[0];
+  } else {
+    out[0] = r[1] * F[2] - r[2] * F[1];
+    out[1] = r[2] * F[0] - r[0] * F[2];
+    out[2] = r[0] * F[1] - r[1] * F[0];
+  }
+}
+
+// The rotation by angle (2D) or rotation vector (3D, Rodrigues) theta, as a
+// row-major Dim x Dim matrix.
+template <int Dim>
+std::array<double, Dim * Dim> rotation_by(const double* theta) {
+  std::array<double, Dim * Dim> R{};
+  if constexpr (Dim == 2) {
+    const double c = std::cos(theta[0]), s = std::sin(theta[0]);
+    R = {c, -s, s, c};
+  } else {
+    const double angle = std::sqrt(theta[0] * theta[0] + theta[1] * theta[1] + theta[2] * theta[2]);
+    for (int d = 0; d < 3; ++d) R[d * 3 + d] = 1.0;
+    if (angle == 0) return R;
+    const double k[3] = {theta[0] / angle, theta[1] / angle, theta[2] / angle};
+    const double c = std::cos(angle), s = std::sin(angle), t = 1 - c;
+    R = {c + t * k[0] * k[0],        t * k[0] * k[1] - s * k[2], t * k[0] * k[2] + s * k[1],
+         t * k[1] * k[0] + s * k[2], c + t * k[1] * k[1],        t * k[1] * k[2] - s * k[0],
+         t * k[2] * k[0] - s * k[1], t * k[2] * k[1] + s * k[0], c + t * k[2] * k[2]};
+  }
+  return R;
+}
+
+template <int Dim, class ExecSpace>
+class RigidGrains {
+ public:
+  using MemorySpace = typename ExecSpace::memory_space;
+  static constexpr int kSpin = spin_components<Dim>();
+  using Vector = std::array<double, Dim>;
+  using Spin = std::array<double, kSpin>;
+
+  // One grain's state.
+  struct Body {
+    Vector centre{}, velocity{}, acceleration{};
+    Spin spin{}, spin_rate{};  // angular velocity and acceleration
+    Spin turned{};             // the angle turned since the start (2D; in 3D the steps' rotation vectors, summed)
+    Vector fluid_force{};      // the fluid's force and torque at the last loads
+    Spin fluid_torque{};
+    double mass = 0, inertia = 0, volume = 0, radius = 0;
+  };
+
+  RigidGrains() = default;
+
+  // The scene's grains at rest; fluid_mass over all processes. Sets the
+  // fluid's share of gravity and of the support (fluid_body_force()).
+  RigidGrains(const SceneConfig& scene, double fluid_mass)
+      : motion_(scene.grain_motion), cell_(scene.cell_size), periodic_(scene.periodic) {
+    if (motion_ == GrainMotion::Fixed) return;
+    double grain_mass = 0, grain_volume = 0;
+    for (const Grain& g : scene.grains) {
+      Body b;
+      for (int d = 0; d < Dim; ++d) b.centre[d] = g.centre[d];
+      b.radius = g.radius;
+      b.volume = Dim == 2 ? M_PI * g.radius * g.radius : 4.0 / 3.0 * M_PI * g.radius * g.radius * g.radius;
+      b.mass = scene.grain_density * b.volume;
+      b.inertia = (Dim == 2 ? 0.5 : 0.4) * b.mass * g.radius * g.radius;
+      grain_mass += b.mass, grain_volume += b.volume;
+      bodies_.push_back(b);
+    }
+    // The support: a uniform force per unit volume s on fluid (s / rho0 per
+    // unit mass, the fluid's volume its mass over rho0) and grains, along
+    // each periodic direction, such that the external forces add to zero.
+    const double volume = fluid_mass / scene.density + grain_volume;
+    for (int d = 0; d < Dim; ++d) {
+      const double support = periodic_[d] ? -(fluid_mass + grain_mass) * scene.gravity[d] / volume : 0.0;
+      fluid_body_force_[d] = scene.body_force[d] + scene.gravity[d] + support / scene.density;
+      // A grain's: gravity on its mass, the support and the driving pressure
+      // gradient rho0 F (Fluid/Body Force) on its volume.
+      gravity_[d] = scene.gravity[d];
+      volume_force_[d] = support + scene.density * scene.body_force[d];
+    }
+    const int n = static_cast<int>(bodies_.size());
+    centre_start_ = View("RigidGrains::centre_start", n, Dim);
+    centre_ = View("RigidGrains::centre", n, Dim);
+    velocity_ = View("RigidGrains::velocity", n, Dim);
+    spin_ = View("RigidGrains::spin", n, kSpin);
+    turn_ = View("RigidGrains::turn", n, Dim * Dim);
+    begin_ = bodies_;
+    upload({});
+  }
+
+  bool moving() const { return motion_ != GrainMotion::Fixed && !bodies_.empty(); }
+  const std::vector<Body>& bodies() const { return bodies_; }
+  // What the fluid feels per unit mass: the body force, gravity and the support.
+  const Vector& fluid_body_force() const { return fluid_body_force_; }
+
+  // To the step's mid-point with the accelerations of the last loads.
+  void predict(double dt) {
+    begin_ = bodies_;
+    for (Body& b : bodies_) {
+      const Body& s = begin_[&b - bodies_.data()];
+      for (int d = 0; d < Dim; ++d) {
+        if (motion_ == GrainMotion::Free) b.centre[d] = s.centre[d] + 0.5 * dt * s.velocity[d];
+        b.velocity[d] = s.velocity[d] + 0.5 * dt * s.acceleration[d];
+      }
+      for (int c = 0; c < kSpin; ++c) b.spin[c] = s.spin[c] + 0.5 * dt * s.spin_rate[c];
+    }
+    upload(half_turns(dt, false));
+  }
+  // The whole step from its start with the mid-point's accelerations.
+  void correct(double dt) {
+    for (Body& b : bodies_) {
+      const Body& s = begin_[&b - bodies_.data()];
+      for (int d = 0; d < Dim; ++d) {
+        b.velocity[d] = s.velocity[d] + dt * b.acceleration[d];
+        if (motion_ == GrainMotion::Free) b.centre[d] = s.centre[d] + 0.5 * dt * (s.velocity[d] + b.velocity[d]);
+      }
+      for (int c = 0; c < kSpin; ++c) b.spin[c] = s.spin[c] + dt * b.spin_rate[c];
+    }
+    const auto turns = half_turns(dt, true);
+    for (Body& b : bodies_) {
+      const Body& s = begin_[&b - bodies_.data()];
+      for (int c = 0; c < kSpin; ++c) b.turned[c] = s.turned[c] + 0.5 * dt * (s.spin[c] + b.spin[c]);
+    }
+    upload(turns);
+  }
+
+  // Puts every owned boundary particle of a grain where its grain is now,
+  // turned with it, at its velocity; x_start holds the positions at the
+  // start of the step (the grains' begin state). The particles' own
+  // predictor and corrector have moved them by their velocity: replaced here.
+  void place(const ExecSpace& space, const Particles<Dim, MemorySpace>& P) const {
+    const auto Q = P;
+    const auto c0 = centre_start_, c = centre_, U = velocity_, w = spin_, R = turn_;
+    Kokkos::Array<double, Dim> side;
+    Kokkos::Array<bool, Dim> wrap;
+    for (int d = 0; d < Dim; ++d) side[d] = cell_[d], wrap[d] = periodic_[d];
+    static const std::string label = "poresph::RigidGrains::place";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+          const int g = Q.grain(i);
+          if (g < 0) return;
+          double from_start[Dim], turned[Dim], moved[Dim];
+          for (int d = 0; d < Dim; ++d) {  // its offset from the centre at the start, nearest image
+            double r = Q.x_start(i, d) - c0(g, d);
+            if (wrap[d]) r -= side[d] * math::floor(r / side[d] + 0.5);
+            from_start[d] = r;
+          }
+          for (int d = 0; d < Dim; ++d) {
+            turned[d] = 0;
+            for (int e = 0; e < Dim; ++e) turned[d] += R(g, d * Dim + e) * from_start[e];
+          }
+          double omega[kSpin];
+          for (int k = 0; k < kSpin; ++k) omega[k] = w(g, k);
+          spin_cross<Dim>(omega, turned, moved);
+          for (int d = 0; d < Dim; ++d) {
+            Q.x(i, d) = Q.x_start(i, d) + (c(g, d) - c0(g, d)) + (turned[d] - from_start[d]);
+            Q.v(i, d) = U(g, d) + moved[d];
+            Q.wall_vector(i, d) = turned[d];
+          }
+        });
+  }
+
+  // The loads on the grains from their owned boundary particles' dv/dt (the
+  // reactions of the pair loop just run), summed over the processes, and
+  // the grains' accelerations from them.
+  void take_loads(const Particles<Dim, MemorySpace>& P, const Communicator& comm) {
+    const int n = static_cast<int>(bodies_.size());
+    std::vector<double> sums(n * (Dim + kSpin), 0.0);
+    const auto grain = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.grain);
+    const auto dvdt = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt);
+    const auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.m);
+    const auto offset = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.wall_vector);
+    for (int i = 0; i < P.owned; ++i) {
+      const int g = grain(i);
+      if (g < 0) continue;
+      double F[Dim], r[Dim], T[kSpin];
+      for (int d = 0; d < Dim; ++d) F[d] = m(i) * dvdt(i, d), r[d] = offset(i, d);
+      moment_of<Dim>(r, F, T);
+      double* s = sums.data() + g * (Dim + kSpin);
+      for (int d = 0; d < Dim; ++d) s[d] += F[d];
+      for (int k = 0; k < kSpin; ++k) s[Dim + k] += T[k];
+    }
+    comm.sum(sums.data(), static_cast<int>(sums.size()));
+    for (int g = 0; g < n; ++g) {
+      Body& b = bodies_[g];
+      const double* s = sums.data() + g * (Dim + kSpin);
+      for (int d = 0; d < Dim; ++d) {
+        b.fluid_force[d] = s[d];
+        const double external = b.mass * gravity_[d] + b.volume * volume_force_[d];
+        b.acceleration[d] = motion_ == GrainMotion::Free ? (s[d] + external) / b.mass : 0.0;
+      }
+      for (int k = 0; k < kSpin; ++k) b.fluid_torque[k] = s[Dim + k], b.spin_rate[k] = s[Dim + k] / b.inertia;
+    }
+  }
+
+ private:
+  using View = Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>;
+
+  // Each grain's rotation over half the step (predictor: at its start
+  // spin; corrector: over the whole step at the mean of both spins).
+  std::vector<std::array<double, Dim * Dim>> half_turns(double dt, bool whole) const {
+    std::vector<std::array<double, Dim * Dim>> turns;
+    for (size_t g = 0; g < bodies_.size(); ++g) {
+      double theta[kSpin];
+      for (int k = 0; k < kSpin; ++k)
+        theta[k] = whole ? 0.5 * dt * (begin_[g].spin[k] + bodies_[g].spin[k]) : 0.5 * dt * begin_[g].spin[k];
+      turns.push_back(rotation_by<Dim>(theta));
+    }
+    return turns;
+  }
+  // The state the kernels read.
+  void upload(const std::vector<std::array<double, Dim * Dim>>& turns) {
+    auto c0 = Kokkos::create_mirror_view(centre_start_);
+    auto c = Kokkos::create_mirror_view(centre_);
+    auto U = Kokkos::create_mirror_view(velocity_);
+    auto w = Kokkos::create_mirror_view(spin_);
+    auto R = Kokkos::create_mirror_view(turn_);
+    for (size_t g = 0; g < bodies_.size(); ++g) {
+      for (int d = 0; d < Dim; ++d) c0(g, d) = begin_[g].centre[d], c(g, d) = bodies_[g].centre[d];
+      for (int d = 0; d < Dim; ++d) U(g, d) = bodies_[g].velocity[d];
+      for (int k = 0; k < kSpin; ++k) w(g, k) = bodies_[g].spin[k];
+      for (int e = 0; e < Dim * Dim; ++e) R(g, e) = turns.empty() ? (e % (Dim + 1) == 0 ? 1.0 : 0.0) : turns[g][e];
+    }
+    Kokkos::deep_copy(centre_start_, c0);
+    Kokkos::deep_copy(centre_, c);
+    Kokkos::deep_copy(velocity_, U);
+    Kokkos::deep_copy(spin_, w);
+    Kokkos::deep_copy(turn_, R);
+  }
+
+  GrainMotion motion_ = GrainMotion::Fixed;
+  std::array<double, 3> cell_{};
+  std::array<bool, 3> periodic_{};
+  std::vector<Body> bodies_, begin_;
+  Vector fluid_body_force_{}, gravity_{}, volume_force_{};
+  View centre_start_, centre_, velocity_, spin_, turn_;
+};
+
+}  // namespace poresph
