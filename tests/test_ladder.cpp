@@ -100,6 +100,7 @@ TEST(Ladder, EveryFileOfEveryStageIsRunOutput) {
             for (const std::string& name :
                  {"permeability_history" + s.suffix + ".csv", "profiles" + s.suffix + ".csv",
                   "particles" + s.suffix + ".csv", "particles" + s.suffix + ".xmf", "grid" + s.suffix + ".xmf",
+                  "surface_forces" + s.suffix + ".csv", "grains_history" + s.suffix + ".csv",
                   "fields" + s.suffix + "_000001234.h5", "fields" + s.suffix + "_000000000.h5.tmp"}) {
               const auto parsed = parse_run_output(name);
               ASSERT_TRUE(parsed) << name;

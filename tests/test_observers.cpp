@@ -51,8 +51,10 @@ StageSetting<Sim> setting_of(Sim& sim, const SceneConfig& scene, const std::stri
 }
 
 // A channel marched: the profile probe, the health watch and the
-// permeability probe, then three writers; a channel solved for its steady
-// state: no profile probe (it has no start-up flow to compare).
+// permeability probe, then four writers (the field frames, checkpoints, the
+// progress line and, the channel having walls, the forces on them); a
+// channel solved for its steady state: no profile probe (it has no
+// start-up flow to compare).
 TYPED_TEST(ObserverFactoryTest, AChannelGetsItsProbesAndWriters) {
   using Sim = Simulation<2, TypeParam>;
   const std::string dir = ::testing::TempDir() + "/poresph_observers";
@@ -63,7 +65,7 @@ TYPED_TEST(ObserverFactoryTest, AChannelGetsItsProbesAndWriters) {
   Sim sim(scene);
   const auto marched = make_all(setting_of(sim, scene, dir));
   EXPECT_EQ(marched.probes, 3);
-  EXPECT_EQ(marched.writers, 3);
+  EXPECT_EQ(marched.writers, 4);
   EXPECT_FALSE(marched.writer_before_probe) << "probes run before writers";
   SceneConfig solved_scene = scene;
   solved_scene.steady_solver = true;

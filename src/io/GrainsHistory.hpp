@@ -2,7 +2,9 @@
 // grains_history.csv: moving grains' state over a run (physics/RigidGrains.hpp),
 // one row a grain every check interval and at the end: time, centre,
 // velocity, spin (angular velocity; about z in 2D), the angle turned (2D),
-// and the fluid's force and torque on it.
+// and the fluid's force and torque on it. Every write is checked
+// (io/HistoryFile.hpp); a restart of moving grains is refused, so a run
+// always starts the file afresh.
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -11,6 +13,7 @@
 
 #include "diagnostics/Observer.hpp"
 #include "diagnostics/StageSetting.hpp"
+#include "io/HistoryFile.hpp"
 
 namespace poresph {
 
@@ -19,20 +22,18 @@ class GrainsHistory : public Observer<Sim> {
  public:
   GrainsHistory(const Sim& sim, const std::string& path, long long interval) : interval_(interval) {
     if (sim.communicator().rank() != 0) return;
-    file_.open(path);
-    if (!file_) throw std::runtime_error("cannot write " + path);
     constexpr int kSpin = Dim == 2 ? 1 : 3;
-    file_ << "step,time,grain";
-    for (int d = 0; d < Dim; ++d) file_ << ",centre_" << "xyz"[d];
-    for (int d = 0; d < Dim; ++d) file_ << ",velocity_" << "xyz"[d];
-    if (kSpin == 1) file_ << ",spin,turned";
+    std::string header = "step,time,grain";
+    for (int d = 0; d < Dim; ++d) header += std::string(",centre_") + "xyz"[d];
+    for (int d = 0; d < Dim; ++d) header += std::string(",velocity_") + "xyz"[d];
+    if (kSpin == 1) header += ",spin,turned";
     else
-      for (int k = 0; k < kSpin; ++k) file_ << ",spin_" << "xyz"[k];
-    for (int d = 0; d < Dim; ++d) file_ << ",force_" << "xyz"[d];
-    if (kSpin == 1) file_ << ",torque";
+      for (int k = 0; k < kSpin; ++k) header += std::string(",spin_") + "xyz"[k];
+    for (int d = 0; d < Dim; ++d) header += std::string(",force_") + "xyz"[d];
+    if (kSpin == 1) header += ",torque";
     else
-      for (int k = 0; k < kSpin; ++k) file_ << ",torque_" << "xyz"[k];
-    file_ << "\n";
+      for (int k = 0; k < kSpin; ++k) header += std::string(",torque_") + "xyz"[k];
+    file_.open(path, header + "\n", false, 0);
     write(sim);
   }
 
@@ -48,36 +49,37 @@ class GrainsHistory : public Observer<Sim> {
   }
   void at_end(Sim& sim) override {
     if (sim.steps() % interval_ != 0) write(sim);
-    if (file_.is_open()) file_.flush();
   }
 
  private:
   void write(const Sim& sim) {
-    if (!file_.is_open()) return;
+    std::ofstream* out = file_.stream();
+    if (!out) return;
     constexpr int kSpin = Dim == 2 ? 1 : 3;
     const auto& bodies = sim.rigid_grains().bodies();
     char buffer[64];
     auto put = [&](double value) {
       std::snprintf(buffer, sizeof buffer, ",%.12g", value);
-      file_ << buffer;
+      *out << buffer;
     };
     for (size_t g = 0; g < bodies.size(); ++g) {
       const auto& b = bodies[g];
-      file_ << sim.steps();
+      *out << sim.steps();
       put(sim.time());
-      file_ << "," << g;
+      *out << "," << g;
       for (int d = 0; d < Dim; ++d) put(b.centre[d]);
       for (int d = 0; d < Dim; ++d) put(b.velocity[d]);
       for (int k = 0; k < kSpin; ++k) put(b.spin[k]);
       if (kSpin == 1) put(b.turned[0]);
       for (int d = 0; d < Dim; ++d) put(b.fluid_force[d]);
       for (int k = 0; k < kSpin; ++k) put(b.fluid_torque[k]);
-      file_ << "\n";
+      *out << "\n";
     }
+    file_.check();
   }
 
   long long interval_;
-  std::ofstream file_;
+  HistoryFile file_;
 };
 
 }  // namespace poresph
