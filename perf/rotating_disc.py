@@ -7,11 +7,11 @@ reference is computed here on the same cell: Stokes flow by finite
 elements (Taylor-Hood, FreeFem++), the torque on the disc turning at Omega
 being T0 + Omega T1, zero at Omega* = -T0 / T1 (two solves).
 
-    perf/rotating_disc.py [--across 40 80] [--segments 50 100 150] [--poresph build/poresph]
+    perf/rotating_disc.py [--across 40 80] [--segments 50 100 150] [--build build]
         [--out build/rotating-disc] [--reuse]
 
-The cell: length L = 1.5 mm (periodic), height H = 1 mm, the upper wall at
-V0 = 2.5e-5 m/s, nu = 1e-6 m^2/s, the disc of radius R = 0.15 mm at its
+The cell: input/couette.xml made 1.5 mm long (periodic), 1 mm high, the
+upper wall at V0 = 2.5e-5 m/s, nu = 1e-6 m^2/s, the disc of radius R = 0.15 mm at its
 centre (Re = gamma R^2 / nu = 6e-4). PoreSPH runs with moving particles to
 t = 3 s (three times H^2 / nu); its spin is the mean over the last sixth.
 """
@@ -23,7 +23,7 @@ import subprocess
 import sys
 import time
 
-from poresph_runs import ROOT
+from poresph_runs import ROOT, run_poresph
 
 L, H, V0, NU, R, RHO = 1.5e-3, 1.0e-3, 2.5e-5, 1e-6, 1.5e-4, 1000.0
 END_TIME = 3.0
@@ -69,47 +69,19 @@ cout << "RESULT " << Th.nt << " " << torque[0] << " " << torque[1] << " " << -to
     return float(result[-1][4])
 
 
-def poresph_spin(binary, across, out, reuse):
+def poresph_spin(build, across, out, reuse):
     """The disc's mean spin over the run's last sixth, its spread, and the wall seconds (None if reused)."""
     directory = os.path.join(out, f"poresph_{across}")
-    os.makedirs(directory, exist_ok=True)
-    scene = os.path.join(directory, "scene.xml")
-    with open(scene, "w") as f:
-        f.write(f"""<ParameterList name="PoreSPH">
-  <ParameterList name="Scene"><Parameter name="Name" type="string" value="couette-disc"/></ParameterList>
-  <ParameterList name="Domain">
-    <Parameter name="Cell Size" type="Array(double)" value="{{{L!r}, {H!r}}}"/>
-    <Parameter name="Periodic" type="Array(int)" value="{{1, 0}}"/>
-  </ParameterList>
-  <ParameterList name="Fluid">
-    <Parameter name="Density" type="double" value="{RHO!r}"/>
-    <Parameter name="Kinematic Viscosity" type="double" value="{NU!r}"/>
-  </ParameterList>
-  <ParameterList name="Discretization">
-    <Parameter name="Particle Spacing" type="double" value="{H / across!r}"/>
-    <Parameter name="Particle Motion" type="string" value="lagrangian"/>
-  </ParameterList>
-  <ParameterList name="Walls">
-    <Parameter name="Type" type="string" value="channel"/>
-    <Parameter name="Upper Velocity" type="double" value="{V0!r}"/>
-  </ParameterList>
-  <ParameterList name="Grains">
-    <Parameter name="Inline" type="Array(double)" value="{{{L / 2!r}, {H / 2!r}, {R!r}}}"/>
-    <Parameter name="Motion" type="string" value="rotating"/>
-    <Parameter name="Density" type="double" value="{RHO!r}"/>
-  </ParameterList>
-  <ParameterList name="Run"><Parameter name="End Time" type="double" value="{END_TIME!r}"/></ParameterList>
-</ParameterList>
-""")
-    start = time.monotonic()
     seconds = None
-    if not (reuse and os.path.exists(os.path.join(directory, "out", "summary.json"))):
-        done = subprocess.run([binary, scene, "--output", os.path.join(directory, "out"), "--overwrite"],
-                              capture_output=True, text=True)
-        if done.returncode != 0:
-            sys.exit(f"{scene} failed:\n{done.stderr[-2000:]}")
+    if not (reuse and os.path.exists(os.path.join(directory, "summary.json"))):
+        start = time.monotonic()
+        run_poresph(build, "couette.xml", directory, [
+            f"Domain/Cell Size={{{L!r}, {H!r}}}", f"Walls/Upper Velocity={V0!r}",
+            f"Discretization/Particle Spacing={H / across!r}", "Discretization/Particle Motion=lagrangian",
+            f"Grains/Inline={{{L / 2!r}, {H / 2!r}, {R!r}}}", "Grains/Motion=rotating", f"Grains/Density={RHO!r}",
+            "Diagnostics/Profile Sample Times={}", f"Run/End Time={END_TIME!r}"])
         seconds = time.monotonic() - start
-    with open(os.path.join(directory, "out", "grains_history.csv")) as f:
+    with open(os.path.join(directory, "grains_history.csv")) as f:
         history = [(float(r["time"]), float(r["spin"])) for r in csv.DictReader(f)]
     late = [w for t, w in history if t >= END_TIME * 5 / 6]
     mean = sum(late) / len(late)
@@ -121,7 +93,7 @@ def main():
     parser.add_argument("--across", type=int, nargs="+", default=[40, 80], help="particles across H")
     parser.add_argument("--segments", type=int, nargs="+", default=[50, 100, 150],
                         help="finite-element segments along H")
-    parser.add_argument("--poresph", default=os.path.join(ROOT, "build", "poresph"))
+    parser.add_argument("--build", default=os.path.join(ROOT, "build"), help="build directory holding poresph")
     parser.add_argument("--out", default=os.path.join(ROOT, "build", "rotating-disc"))
     parser.add_argument("--reuse", action="store_true", help="read PoreSPH runs already in --out")
     args = parser.parse_args()
@@ -136,7 +108,7 @@ def main():
     print("\n| particles across H | spin (rad/s) | spread, last sixth | over finite elements | over -gamma/2 | wall s |")
     print("|---|---|---|---|---|---|")
     for across in args.across:
-        spin, spread, seconds = poresph_spin(args.poresph, across, args.out, args.reuse)
+        spin, spread, seconds = poresph_spin(args.build, across, args.out, args.reuse)
         wall = f"{seconds:.0f}" if seconds is not None else "(reused)"
         print(f"| {across} | {spin:.5e} | {spread * 100:.2f} % | {spin / reference:.4f} | {spin / (-shear / 2):.4f} "
               f"| {wall} |")

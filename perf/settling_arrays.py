@@ -10,93 +10,57 @@ velocity through the held array under f. Both runs here use moving fluid
 particles, the same sound speed and time step, and end at the same time;
 the held run's q is read from its summary.json, the settling speed from
 grains_history.csv (the mean over the run's last fifth, and its spread).
+The scenes are the shipped square array c = 0.2 and simple cubic array,
+with the settings below.
 The speed from the published drag (Sangani & Acrivos 1982 for the square
 array, Zick & Homsy 1982 for the simple cubic one, through k) is given too.
 
     perf/settling_arrays.py [--arrays square simple_cubic] [--spacings 0.002 0.001]
-        [--poresph build/poresph] [--out build/settling]
+        [--build build] [--out build/settling]
 """
 import argparse
 import csv
-import json
 import math
 import os
-import subprocess
 import sys
 import time
 
-from poresph_runs import ROOT
+from poresph_runs import ROOT, run_poresph
 
 RHO = 1000.0
 NU = 1e-6
 SOLID_DENSITY = 2000.0
 GRAVITY = 5e-8  # m/s^2, along -y: creeping flow (Re ~ 0.1)
 CELL = 0.1
-# name: (dimension, solid fraction, k / L^2 of the published drag, End Time in s)
+# name: (scene file under input/, dimension, solid fraction, k / L^2 of the published drag, End Time in s)
 ARRAYS = {
-    "square": (2, 0.2, 1 / 51.53, 2000.0),  # Sangani & Acrivos 1982, c = 0.2
+    "square": ("square_array/square_array_c20.xml", 2, 0.2, 1 / 51.53, 2000.0),  # Sangani & Acrivos 1982
     # Zick & Homsy 1982, c = 0.125: K = 4.292, k / a^2 = 2 / (9 c K)
-    "simple_cubic": (3, 0.125, 2 * (3 * 0.125 / (4 * math.pi)) ** (2 / 3) / (9 * 0.125 * 4.292), 4000.0),
+    "simple_cubic": ("3d/simple_cubic.xml", 3, 0.125,
+                     2 * (3 * 0.125 / (4 * math.pi)) ** (2 / 3) / (9 * 0.125 * 4.292), 4000.0),
 }
 
 
-def scene_xml(dim, radius, spacing, motion, end_time, sound_speed, body_force=None):
-    cell = ", ".join([repr(CELL)] * dim)
-    centre = ", ".join([repr(CELL / 2)] * dim)
-    gravity = ", ".join(["0.0", repr(-GRAVITY)] + (["0.0"] if dim == 3 else []))
-    force = ""
-    if body_force is not None:
-        force = f'<Parameter name="Body Force" type="Array(double)" value="{{{", ".join(repr(f) for f in body_force)}}}"/>'
-    grains = (f'<Parameter name="Motion" type="string" value="free"/>'
-              f'<Parameter name="Density" type="double" value="{SOLID_DENSITY!r}"/>'
-              f'<Parameter name="Gravity" type="Array(double)" value="{{{gravity}}}"/>') if motion == "free" else ""
-    return f"""<ParameterList name="PoreSPH">
-  <ParameterList name="Scene"><Parameter name="Name" type="string" value="settling-{motion}"/></ParameterList>
-  <ParameterList name="Domain"><Parameter name="Cell Size" type="Array(double)" value="{{{cell}}}"/></ParameterList>
-  <ParameterList name="Fluid">
-    <Parameter name="Density" type="double" value="{RHO!r}"/>
-    <Parameter name="Kinematic Viscosity" type="double" value="{NU!r}"/>
-    <Parameter name="Sound Speed" type="double" value="{sound_speed!r}"/>
-    {force}
-  </ParameterList>
-  <ParameterList name="Discretization">
-    <Parameter name="Particle Spacing" type="double" value="{spacing!r}"/>
-    <Parameter name="Particle Motion" type="string" value="lagrangian"/>
-  </ParameterList>
-  <ParameterList name="Grains">
-    <Parameter name="Inline" type="Array(double)" value="{{{centre}, {radius!r}}}"/>
-    {grains}
-  </ParameterList>
-  <ParameterList name="Permeability"><Parameter name="Steady Tolerance" type="double" value="0.0"/></ParameterList>
-  <ParameterList name="Run"><Parameter name="End Time" type="double" value="{end_time!r}"/></ParameterList>
-</ParameterList>
-"""
+def settings(spacing, end_time, sound_speed):
+    """What both runs of an array set on its scene file: moving fluid, the sound speed, no steady stop."""
+    return [f"Discretization/Particle Spacing={spacing!r}", "Discretization/Particle Motion=lagrangian",
+            f"Fluid/Sound Speed={sound_speed!r}", "Permeability/Steady Tolerance=0", f"Run/End Time={end_time!r}"]
 
 
-def run(binary, xml, directory):
-    os.makedirs(directory, exist_ok=True)
-    path = os.path.join(directory, "scene.xml")
-    with open(path, "w") as f:
-        f.write(xml)
-    start = time.monotonic()
-    done = subprocess.run([binary, path, "--output", os.path.join(directory, "out"), "--overwrite"],
-                          capture_output=True, text=True)
-    if done.returncode != 0:
-        sys.exit(f"{path} failed:\n{done.stderr[-2000:]}")
-    with open(os.path.join(directory, "out", "summary.json")) as f:
-        return json.load(f), time.monotonic() - start
+def vector(values):
+    return "{" + ", ".join(repr(v) for v in values) + "}"
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--arrays", nargs="+", default=["square"], choices=list(ARRAYS))
     parser.add_argument("--spacings", type=float, nargs="+", default=[0.002, 0.001])
-    parser.add_argument("--poresph", default=os.path.join(ROOT, "build", "poresph"))
+    parser.add_argument("--build", default=os.path.join(ROOT, "build"), help="build directory holding poresph")
     parser.add_argument("--out", default=os.path.join(ROOT, "build", "settling"))
     args = parser.parse_args()
     rows = []
     for name in args.arrays:
-        dim, solid_fraction, k_published, end_time = ARRAYS[name]
+        scene, dim, solid_fraction, k_published, end_time = ARRAYS[name]
         cell_volume = CELL**dim
         radius = (solid_fraction * cell_volume / (math.pi if dim == 2 else 4 / 3 * math.pi)) ** (1 / dim)
         grain_volume = math.pi * radius**2 if dim == 2 else 4 / 3 * math.pi * radius**3
@@ -107,20 +71,26 @@ def main():
             velocity = force * CELL**2 / (8 * NU)
             sound_speed = math.sqrt(max(velocity**2, NU * velocity / CELL, force * CELL) / 0.01)
             directory = os.path.join(args.out, f"{name}_{spacing:g}")
-            free, free_seconds = run(args.poresph, scene_xml(dim, radius, spacing, "free", end_time, sound_speed),
-                                     os.path.join(directory, "free"))
+            common = settings(spacing, end_time, sound_speed)
+            gravity = [0.0, -GRAVITY] + ([0.0] if dim == 3 else [])
+            start = time.monotonic()
+            free = run_poresph(args.build, scene, os.path.join(directory, "free"), common + [
+                f"Fluid/Body Force={vector([0.0] * dim)}", "Grains/Motion=free",
+                f"Grains/Density={SOLID_DENSITY!r}", f"Grains/Gravity={vector(gravity)}"])
+            free_seconds = time.monotonic() - start
             fluid_mass = free["fluid_particles"] * RHO * spacing**dim
             # The fluid's force per unit mass, f = g + s / rho0 (physics/RigidGrains.hpp): g_y = -G and
             # the support s_y = (M_f + M_s) G / (M_f / rho0 + V_s).
             f_y = -GRAVITY + (fluid_mass + grain_mass) * GRAVITY / ((fluid_mass / RHO + grain_volume) * RHO)
-            body = [0.0, f_y] + ([0.0] if dim == 3 else [])
-            held, held_seconds = run(args.poresph, scene_xml(dim, radius, spacing, "held", end_time, sound_speed, body),
-                                     os.path.join(directory, "held"))
+            start = time.monotonic()
+            held = run_poresph(args.build, scene, os.path.join(directory, "held"),
+                               common + [f"Fluid/Body Force={vector([0.0, f_y] + ([0.0] if dim == 3 else []))}"])
+            held_seconds = time.monotonic() - start
             q = held["superficial_velocity"]["y"]
             phi = fluid_mass / (RHO * cell_volume)
             predicted = -q / (phi * (1 + grain_mass / fluid_mass))
             published = -(k_published * CELL**2) * f_y / NU / (phi * (1 + grain_mass / fluid_mass))
-            with open(os.path.join(directory, "free", "out", "grains_history.csv")) as f:
+            with open(os.path.join(directory, "free", "grains_history.csv")) as f:
                 history = [(float(r["time"]), float(r["velocity_y"])) for r in csv.DictReader(f)]
             late = [u for t, u in history if t >= 0.8 * end_time]
             mean = sum(late) / len(late)

@@ -93,20 +93,14 @@ void expect_balance(SceneConfig scene, const std::string &what) {
   EXPECT_GT(std::sqrt(surfaces), 1e-3 * b.scale) << what;
 }
 
-TYPED_TEST(SurfaceLoadsTest, BalanceTheFluidsMomentumChangeFixed) {
+TYPED_TEST(SurfaceLoadsTest, BalanceTheFluidsMomentumChangeFixedAndMoving) {
   const std::array<double, 3> force{0.05, 0.02, 0};
-  expect_balance<2, TypeParam>(grain_cell(ParticleMotion::Fixed, WallPressure::Extrapolated, force),
-                               "fixed, extrapolated wall pressure");
-  expect_balance<2, TypeParam>(grain_cell(ParticleMotion::Fixed, WallPressure::Continuity, force),
-                               "fixed, boundary continuity");
-}
-
-TYPED_TEST(SurfaceLoadsTest, BalanceTheFluidsMomentumChangeMoving) {
-  const std::array<double, 3> force{0.05, 0.02, 0};
-  expect_balance<2, TypeParam>(grain_cell(ParticleMotion::Lagrangian, WallPressure::Continuity, force),
-                               "moving, boundary continuity");
-  expect_balance<2, TypeParam>(grain_cell(ParticleMotion::Lagrangian, WallPressure::Extrapolated, force),
-                               "moving, extrapolated wall pressure");
+  for (const auto motion : {ParticleMotion::Fixed, ParticleMotion::Lagrangian})
+    for (const auto wall_pressure : {WallPressure::Extrapolated, WallPressure::Continuity})
+      expect_balance<2, TypeParam>(grain_cell(motion, wall_pressure, force),
+                                   std::string(motion == ParticleMotion::Fixed ? "fixed" : "moving") +
+                                       (wall_pressure == WallPressure::Extrapolated ? ", extrapolated wall pressure"
+                                                                                    : ", boundary continuity"));
 }
 
 TYPED_TEST(SurfaceLoadsTest, BalanceTheFluidsMomentumChangeWallsAndGrains) {
