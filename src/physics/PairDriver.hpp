@@ -61,10 +61,11 @@ struct PairLoopOptions {
   double uniform_mass = 0;
   double uniform_inverse_density = 0;
   // A boundary particle's end of each pair with a fluid particle takes the
-  // reaction to what the fluid gains from it (PairDriver::add_reaction):
-  // the fluid's force on the surfaces, m times the boundary particle's
-  // acceleration sum. Off in the time loop (the surfaces do not move);
-  // Simulation::surface_forces turns it on.
+  // reaction to what the fluid gains from it (physics/terms/
+  // SurfaceReactionTerm.hpp): the fluid's force on the surfaces, m times
+  // the boundary particle's acceleration sum. On in the time loop of a
+  // scene whose grains move (physics/RigidGrains.hpp); otherwise only in
+  // Simulation::surface_forces.
   bool surface_reactions = false;
 };
 
@@ -158,6 +159,7 @@ struct PairTermBase {
   static constexpr bool at_boundary_ends = false;      // adds to boundary particles too (before they leave)
   static constexpr bool fluid_pair_weights = true;     // a pair of fluid particles is weights of r and v
   static constexpr bool surfaces = false;              // brings boundary particles (row_touches_surface)
+  static constexpr bool reactions = false;             // boundary ends take reactions (SurfaceReactionTerm)
   template <class Inputs>
   static bool wanted(const Inputs&) { return true; }
   template <int Dim>
@@ -233,6 +235,9 @@ struct PairDriver : Terms... {
   static_assert((PairTermConcept<Dim, ExecSpace, Terms>::value && ...));
   static_assert(pair_detail::motions_agree<Terms...>(), "a term list mixes fixed-particle and moving-particle terms");
   static constexpr bool WithSurfaces = (Terms::surfaces || ...);
+  // Boundary ends take the reactions to what the fluid gains from them
+  // (physics/terms/SurfaceReactionTerm.hpp, add_reaction).
+  static constexpr bool WithReactions = (Terms::reactions || ...);
   // All terms are weights of r and v for a pair of fluid particles: both its ends at once.
   static constexpr bool FluidPairsAsWeights = (Terms::fluid_pair_weights && ...);
   using MemorySpace = typename ExecSpace::memory_space;
@@ -253,10 +258,9 @@ struct PairDriver : Terms... {
   // continuity of its density (PairLoopOptions::wall_continuity). Otherwise
   // its end of every pair is left out, its terms would be thrown away, and a
   // pair of two boundary particles (a wall's or a grain's inside, about a
-  // tenth of a channel's pairs) is skipped. Also with surface_reactions,
-  // whose boundary ends take the reactions (add_reaction).
+  // tenth of a channel's pairs) is skipped. Also with the reactions,
+  // which boundary ends take (add_reaction).
   bool boundary_pairs = true;
-  bool surface_reactions = false;  // PairLoopOptions
   double uniform_mass = 0, uniform_inverse_density = 0;  // PairLoopOptions
 
   PairDriver(const PairTermInputs<Dim, ExecSpace>& in, const NeighbourList<Dim, ExecSpace>& list,
@@ -268,8 +272,7 @@ struct PairDriver : Terms... {
         kernel(W),
         cached(in.cached),
         lattice_rows(list.on_lattice_rows()),
-        boundary_pairs(in.options.wall_continuity || in.options.surface_reactions),
-        surface_reactions(in.options.surface_reactions),
+        boundary_pairs(in.options.wall_continuity || WithReactions),
         uniform_mass(in.options.uniform_mass),
         uniform_inverse_density(in.options.uniform_inverse_density) {}
 
@@ -315,34 +318,25 @@ struct PairDriver : Terms... {
     SeenVelocity<Dim> seen{1.0, g.v};
     (add_term<Terms, true>(sum, acceleration, self, other, g, seen, shared), ...);
     if (WithSurfaces && self.kind != kFluid) {  // boundary particles move as their surface prescribes
-      if (surface_reactions && other.kind == kFluid) add_reaction(sum, self, other, g, entry, shared);
+      if constexpr (WithReactions)
+        if (other.kind == kFluid) add_reaction(sum, self, other, g, entry, shared);
       return;
     }
-    add_fluid_end(sum, acceleration, self, other, g, entry, shared, seen);
-  }
-  // What a fluid end gains from its neighbour, beyond the terms of boundary ends.
-  KOKKOS_FORCEINLINE_FUNCTION void add_fluid_end(Sums& sum, Vec<Dim>& acceleration, const PairEnd<Dim>& self,
-                                                 const PairEnd<Dim>& other, const EndGeometry<Dim>& g, int entry,
-                                                 const Shared& shared, SeenVelocity<Dim>& seen) const {
     (static_cast<const Terms&>(*this).see(self, other, g, entry, seen), ...);
     (add_term<Terms, false>(sum, acceleration, self, other, g, seen, shared), ...);
     for (int d = 0; d < Dim; ++d) sum.acceleration(d) += acceleration[d];
   }
-  // PairLoopOptions::surface_reactions: boundary particle `self` takes into
-  // its acceleration minus what fluid particle `fluid` gains from it, over
-  // the mass ratio, so that m_self a_self = -m_fluid a_fluid and the pair
-  // conserves momentum. The gain is formed as the fluid's own end forms it
+  // With the reactions: boundary particle `self` takes into its
+  // acceleration minus what fluid particle `fluid` gains from it, over the
+  // mass ratio, so that m_self a_self = -m_fluid a_fluid and the pair
+  // conserves momentum. The gain is formed by the fluid's own end, add()
   // (the same terms, the same no-slip factor), with the whole viscous pull:
   // a wall drag kept apart (FluidProperties::separate_wall_drag) must be off.
-  // Not inlined into the pair loop of the time loop, which never takes it.
-  [[gnu::noinline]] KOKKOS_FUNCTION void add_reaction(Sums& sum, const PairEnd<Dim>& self, const PairEnd<Dim>& fluid,
+  // Not force-inlined: it calls add(), which calls it.
+  KOKKOS_INLINE_FUNCTION void add_reaction(Sums& sum, const PairEnd<Dim>& self, const PairEnd<Dim>& fluid,
                                            const EndGeometry<Dim>& g, int entry, const Shared& shared) const {
     Sums gained;
-    Vec<Dim> acceleration;
-    for (int d = 0; d < Dim; ++d) acceleration[d] = -0.0;
-    const EndGeometry<Dim> seen_from_fluid{-1.0 * g.r, -1.0 * g.v, g.F, -g.sign};
-    SeenVelocity<Dim> seen{1.0, seen_from_fluid.v};
-    add_fluid_end(gained, acceleration, fluid, self, seen_from_fluid, entry, shared, seen);
+    add(gained, fluid, self, EndGeometry<Dim>{-1.0 * g.r, -1.0 * g.v, g.F, -g.sign}, entry, shared);
     const double ratio = -fluid.m / self.m;
     for (int d = 0; d < Dim; ++d) sum.acceleration(d) += ratio * gained.acceleration(d);
   }
@@ -375,7 +369,7 @@ struct PairDriver : Terms... {
     const PairEnd<Dim> end_b = end_of<Surfaces>(b);
     // Which ends need the pair's terms: a boundary particle only with
     // boundary_pairs (a ghost end never: its owner adds the pair to it).
-    // With surface_reactions, a boundary end of a pair with a fluid particle takes the reaction.
+    // (boundary_pairs is set with the reactions: a boundary end then takes its reaction.)
     const bool a_takes = !Surfaces || boundary_pairs || end_a.kind == kFluid;
     const bool b_takes = BothEnds && (!Surfaces || boundary_pairs || end_b.kind == kFluid);
     if (!a_takes && !b_takes) return;
@@ -541,7 +535,8 @@ struct FinishPairRates : Terms... {
   PairSums<ExecSpace> sums;
   Vec<Dim> body_force;
   bool wall_continuity;
-  bool surface_reactions;  // a boundary particle's dv/dt is then its reaction sum (PairDriver::add_reaction)
+  // A boundary particle's dv/dt is its reaction sum (PairDriver::add_reaction).
+  static constexpr bool WithReactions = (Terms::reactions || ...);
 
   FinishPairRates(const PairTermInputs<Dim, ExecSpace>& in, const PairSums<ExecSpace>& pair_sums,
                   const Vec<Dim>& force)
@@ -549,8 +544,7 @@ struct FinishPairRates : Terms... {
         P(in.particles),
         sums(pair_sums),
         body_force(force),
-        wall_continuity(in.options.wall_continuity),
-        surface_reactions(in.options.surface_reactions) {}
+        wall_continuity(in.options.wall_continuity) {}
 
   KOKKOS_INLINE_FUNCTION void operator()(int a) const {
     const bool a_is_fluid = P.kind(a) == kFluid;
@@ -558,7 +552,7 @@ struct FinishPairRates : Terms... {
     P.drhodt(a) = a_is_fluid || wall_continuity ? drhodt : 0.0;
     for (int d = 0; d < Dim; ++d) {
       const double pairs = sums.take(a, Sums::acceleration_begin + d);
-      P.dvdt(a, d) = a_is_fluid ? pairs + body_force[d] : surface_reactions ? pairs : 0.0;
+      P.dvdt(a, d) = a_is_fluid ? pairs + body_force[d] : WithReactions ? pairs : 0.0;
     }
     (static_cast<const Terms&>(*this).finish(P, a, a_is_fluid, TermTotals<ExecSpace>{sums, a, offset_of<Terms>}), ...);
   }

@@ -23,6 +23,7 @@
 #include "physics/terms/NoSlipTerm.hpp"
 #include "physics/terms/PressureTerm.hpp"
 #include "physics/terms/ShiftingTerm.hpp"
+#include "physics/terms/SurfaceReactionTerm.hpp"
 #include "physics/terms/ViscousTerm.hpp"
 
 namespace poresph {
@@ -36,8 +37,8 @@ using CorePairTerms =
 // core ones in this order. Every combination whose terms agree on the
 // particles' motion is compiled.
 template <int Dim, class ExecSpace>
-using OptionalPairTerms =
-    PairTermList<NoSlipTerm<Dim, ExecSpace>, ConvectionTerm<Dim, ExecSpace>, ShiftingTerm<Dim, ExecSpace>>;
+using OptionalPairTerms = PairTermList<NoSlipTerm<Dim, ExecSpace>, ConvectionTerm<Dim, ExecSpace>,
+                                       ShiftingTerm<Dim, ExecSpace>, SurfaceReactionTerm<Dim, ExecSpace>>;
 
 namespace pair_detail {
 
@@ -157,8 +158,9 @@ void compute_pair_rates_of(const ExecSpace& space, const Particles<Dim, typename
 
 // The fluid's force on each owned boundary particle, into `force` (zero
 // for fluid particles): the pair loop with PairLoopOptions::
-// surface_reactions, whose boundary ends then hold the reactions to what
-// the fluid gains from them (PairDriver::add_reaction), times their mass.
+// surface_reactions (the term physics/terms/SurfaceReactionTerm.hpp), whose
+// boundary ends then hold the reactions to what the fluid gains from them
+// (PairDriver::add_reaction), times their mass.
 // The same terms as the rates of sum_pair_rates with the same arguments,
 // so that the fluid's momentum change from its surfaces and the surfaces'
 // force add to zero to round-off. The particles' rates are left as they
