@@ -167,6 +167,20 @@ TEST(MpiEquivalence, SpheresAcrossTheCornersOfACube) {
   expect_same_on_any_number_of_ranks<3>(scene, 0.0, 100);
 }
 
+// Grains that move (physics/RigidGrains.hpp): every process advances every
+// grain from loads summed over the processes, and places its own boundary
+// particles, which move between processes with their grain's index.
+TEST(MpiEquivalence, GrainsThatMove) {
+  SceneConfig scene = testing::periodic_box(2, 30);
+  scene.grains = {Grain{{0.03, 0.96, 0}, 0.2, "corner grain"}, Grain{{0.55, 0.45, 0}, 0.12, "inner grain"}};
+  scene.body_force = {0.02, 0.01, 0};
+  scene.particle_motion = ParticleMotion::Lagrangian;
+  scene.grain_motion = GrainMotion::Free;
+  scene.grain_density = 3.0;
+  scene.gravity = {0.0, -0.01, 0};
+  expect_same_on_any_number_of_ranks(scene, 0.0);
+}
+
 TEST(MpiEquivalence, GrainAcrossThePeriodicCorner) {
   SceneConfig scene = testing::periodic_box(2, 30);
   scene.grains = {Grain{{0.03, 0.96, 0}, 0.2, "corner grain"}};
