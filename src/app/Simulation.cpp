@@ -660,14 +660,52 @@ Kokkos::View<int*, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>:
 }
 
 template <int Dim, class ExecSpace>
-Kokkos::View<double* [Dim], typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>::surface_forces() {
+std::vector<double> Simulation<Dim, ExecSpace>::surface_load_sums() {
   neighbourhood_stage();
   wall_pressure_stage();
-  Kokkos::View<double* [Dim], MemorySpace> force("surface_forces", particles_.owned);
-  compute_surface_forces(space_, particles_, neighbourhood_.list(), pair_sums_, kernel_, fluid_, pair_options_,
-                         no_slip_factors_, force);
-  space_.fence();
-  return force;
+  constexpr int kSpin = spin_components<Dim>();
+  const int grains = static_cast<int>(scene_.grains.size());
+  const int walls = grains * (Dim + kSpin), image = walls + Dim, fluid_mass = image + Dim, lost = fluid_mass + 1;
+  Kokkos::View<double*, MemorySpace> totals("surface_load_sums", lost + 1);
+  const auto Q = particles_;
+  const auto map = solid_map_.grains;
+  const double tolerance = 1e-6 * scene_.particle_spacing;
+  compute_surface_forces(
+      space_, particles_, neighbourhood_.list(), pair_sums_, kernel_, fluid_, pair_options_, no_slip_factors_,
+      KOKKOS_LAMBDA(int a, const Vec<Dim>& F) {
+        const int kind = Q.kind(a);
+        int first = kind == kSampledBoundary ? image : walls;
+        double x[Dim], offset[Dim];
+        if (kind == kGrainBoundary) {  // its grain, from its offset to the centre (Simulation::grain_ids)
+          for (int d = 0; d < Dim; ++d) x[d] = Q.x(a, d), offset[d] = Q.wall_vector(a, d);
+          const int g = map.grain_with_offset(x, offset, tolerance);
+          if (g < 0) {
+            Kokkos::atomic_add(&totals(lost), 1.0);
+            return;
+          }
+          double torque[kSpin];
+          moment_of<Dim>(offset, F.c, torque);
+          first = g * (Dim + kSpin);
+          for (int k = 0; k < kSpin; ++k) Kokkos::atomic_add(&totals(first + Dim + k), torque[k]);
+        }
+        for (int d = 0; d < Dim; ++d) Kokkos::atomic_add(&totals(first + d), F[d]);
+      });
+  const auto kind = particles_.kind;
+  const auto m = particles_.m;
+  double mass = 0;
+  static const std::string label = "poresph::fluid_mass";
+  Kokkos::parallel_reduce(
+      label, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid ? m(i) : 0.0; }, mass);
+  auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), totals);
+  std::vector<double> sums(host.data(), host.data() + lost + 1);
+  sums[fluid_mass] = mass;
+  comm_.sum(sums.data(), static_cast<int>(sums.size()));
+  if (sums[lost] > 0)
+    throw std::logic_error("surface_load_sums: " + std::to_string(static_cast<long long>(sums[lost])) +
+                           " boundary particles of grains that no grain has");
+  sums.pop_back();
+  return sums;
 }
 
 template <int Dim, class ExecSpace>

@@ -153,13 +153,15 @@ class Simulation {
   // Moving grains: their state (centres, velocities, spins, loads); empty when they hold still.
   const RigidGrains<Dim, ExecSpace>& rigid_grains() const { return rigid_grains_; }
 
-  // The fluid's force on each owned particle of a surface (zero for fluid
-  // particles) at the current state, from the pair terms of its rates, so
-  // that it and the fluid's momentum change from the surfaces add to zero
-  // to round-off (physics/PairRates.hpp, compute_surface_forces). Brings
-  // pressures, ghosts and the wall pressure to the state first; the rates
-  // are left as they were.
-  Kokkos::View<double* [Dim], MemorySpace> surface_forces();
+  // The fluid's force on the solid at the current state, summed over all
+  // processes, as one list: each grain's force (Dim) and torque about its
+  // centre (1 in 2D, 3 in 3D), then the plane walls' force, an image's, and
+  // the fluid's mass (diagnostics/SurfaceLoads.hpp reads it). From the pair
+  // terms of the rates, so that it and the fluid's momentum change from the
+  // surfaces add to zero to round-off (physics/PairRates.hpp,
+  // compute_surface_forces). Brings pressures, ghosts and the wall pressure
+  // to the state first; the rates are left as they were.
+  std::vector<double> surface_load_sums();
 
   // Neighbour-list rebuilds so far (the list is kept while particles move less than half the skin).
   long long neighbour_rebuilds() const { return neighbourhood_.builds(); }

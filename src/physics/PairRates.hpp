@@ -156,21 +156,22 @@ void compute_pair_rates_of(const ExecSpace& space, const Particles<Dim, typename
   run_pair_finish(policy, inputs, sums, body_force, terms);
 }
 
-// The fluid's force on each owned boundary particle, into `force` (zero
-// for fluid particles): the pair loop with PairLoopOptions::
-// surface_reactions (the term physics/terms/SurfaceReactionTerm.hpp), whose
-// boundary ends then hold the reactions to what the fluid gains from them
-// (PairDriver::add_reaction), times their mass.
-// The same terms as the rates of sum_pair_rates with the same arguments,
-// so that the fluid's momentum change from its surfaces and the surfaces'
-// force add to zero to round-off. The particles' rates are left as they
-// were; the sums are left zero.
-template <int Dim, class ExecSpace>
+// The fluid's force on each owned boundary particle a: on_force(a, F)
+// inside the kernel, F its force (a Vec<Dim>). The pair loop with
+// PairLoopOptions::surface_reactions (the term physics/terms/
+// SurfaceReactionTerm.hpp), whose boundary ends then hold the reactions to
+// what the fluid gains from them (PairDriver::add_reaction), times their
+// mass: the same terms as the rates of sum_pair_rates with the same
+// arguments, so that the fluid's momentum change from its surfaces and the
+// surfaces' force add to zero to round-off. No array a particle: the
+// caller sums what it needs. The particles' rates are left as they were;
+// the sums are left zero.
+template <int Dim, class ExecSpace, class OnForce>
 void compute_surface_forces(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
                             const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
                             const QuinticKernel<Dim>& kernel, const FluidProperties& fluid,
                             const PairLoopOptions& options, const NoSlipFactors<Dim, ExecSpace>& no_slip,
-                            const Kokkos::View<double* [Dim], typename ExecSpace::memory_space>& force) {
+                            const OnForce& on_force) {
   FluidProperties whole_drag = fluid;
   whole_drag.separate_wall_drag = false;  // the reaction takes the whole viscous pull
   PairLoopOptions reactions = options;
@@ -186,12 +187,13 @@ void compute_surface_forces(const ExecSpace& space, const Particles<Dim, typenam
     static const std::string label = "poresph::surface_forces";
     Kokkos::parallel_for(
         label, policy, KOKKOS_LAMBDA(int a) {
-          const bool boundary = Q.kind(a) != kFluid;
+          Vec<Dim> F;
           for (int c = 0; c < count; ++c) {
             const double total = totals.take(a, c);  // taken always: the copies return to zero
             const int d = c - Sums::acceleration_begin;
-            if (d >= 0 && d < Dim) force(a, d) = boundary ? Q.m(a) * total : 0.0;
+            if (d >= 0 && d < Dim) F[d] = Q.m(a) * total;
           }
+          if (Q.kind(a) != kFluid) on_force(a, F);
         });
   });
 }
