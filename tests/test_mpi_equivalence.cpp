@@ -57,7 +57,7 @@ std::map<long long, State> run(const SceneConfig& scene, const Communicator& com
   Simulation<Dim, Kokkos::Serial> sim(scene, Kokkos::Serial(), comm);
   if (stir_amplitude > 0) stir(sim, stir_amplitude);
   for (int s = 0; s < steps; ++s) sim.step();
-  loads = flat(surface_loads<Dim>(sim));
+  loads = flat(sim.surface_loads());
   // Fixed particles' pairs, other processes' ghosts and periodic images
   // among them, are lattice offsets: every process reads the one stencil,
   // and holds its rows as masks over it.

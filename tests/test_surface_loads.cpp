@@ -83,7 +83,7 @@ void expect_balance(SceneConfig scene, const std::string &what) {
   testing::randomise_velocities(sim.particles(), 0.2 * scene.velocity_scale, 7);
   for (int s = 0; s < 5; ++s) sim.step();
   sim.compute_rates();
-  const SurfaceLoads<Dim> loads = surface_loads<Dim>(sim);
+  const SurfaceLoads<Dim> loads = sim.surface_loads();
   const Balance b = momentum_balance(sim, loads);
   ASSERT_GT(b.scale, 0) << what;
   EXPECT_LT(b.residual, 1e-13 * b.scale) << what;
@@ -121,7 +121,7 @@ TYPED_TEST(SurfaceLoadsTest, BalanceTheFluidsMomentumChangeIn3D) {
 TYPED_TEST(SurfaceLoadsTest, SymmetricFlowTurnsNoGrain) {
   Simulation<2, TypeParam> sim(grain_cell(ParticleMotion::Fixed, WallPressure::Extrapolated, {0.05, 0, 0}));
   for (int s = 0; s < 50; ++s) sim.step();
-  const SurfaceLoads<2> loads = surface_loads<2>(sim);
+  const SurfaceLoads<2> loads = sim.surface_loads();
   const double radius[2] = {0.2, 0.15};
   for (int g = 0; g < 2; ++g) {
     const double drag = loads.grain_force[g][0];
@@ -140,7 +140,7 @@ TYPED_TEST(SurfaceLoadsTest, GrainNearAWallTurnsAwayFromIt) {
   s.grains = grains_from_list({0.25e-3, 0.3e-3, 0.1e-3}, 2);
   Simulation<2, TypeParam> sim(s);
   for (int step = 0; step < 400; ++step) sim.step();
-  const SurfaceLoads<2> loads = surface_loads<2>(sim);
+  const SurfaceLoads<2> loads = sim.surface_loads();
   const double drag = loads.grain_force[0][0];
   EXPECT_GT(drag, 0);
   EXPECT_LT(loads.grain_torque[0][0], -1e-3 * drag * 0.1e-3);

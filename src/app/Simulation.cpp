@@ -222,16 +222,21 @@ void Simulation<Dim, ExecSpace>::start_moving_grains() {
   particles_.keep_grain_index();
   const int owned = particles_.owned;
   Kokkos::deep_copy(space_, Kokkos::subview(particles_.grain, Kokkos::make_pair(0, owned)), grain_ids());
-  const auto kind = particles_.kind;
-  const auto m = particles_.m;
-  double fluid_mass = 0;
-  static const std::string label = "poresph::fluid_mass";
-  Kokkos::parallel_reduce(
-      label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned),
-      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid ? m(i) : 0.0; }, fluid_mass);
-  rigid_grains_ = RigidGrains<Dim, ExecSpace>(scene_, comm_.sum(fluid_mass));
+  rigid_grains_ = RigidGrains<Dim, ExecSpace>(scene_, comm_.sum(local_fluid_mass()));
   for (int d = 0; d < Dim; ++d) body_force_[d] = rigid_grains_.fluid_body_force()[d];
   pair_options_.surface_reactions = true;
+}
+
+template <int Dim, class ExecSpace>
+double Simulation<Dim, ExecSpace>::local_fluid_mass() const {
+  const auto kind = particles_.kind;
+  const auto m = particles_.m;
+  double mass = 0;
+  static const std::string label = "poresph::fluid_mass";
+  Kokkos::parallel_reduce(
+      label, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
+      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid ? m(i) : 0.0; }, mass);
+  return mass;
 }
 
 template <int Dim, class ExecSpace>
@@ -660,13 +665,16 @@ Kokkos::View<int*, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>:
 }
 
 template <int Dim, class ExecSpace>
-std::vector<double> Simulation<Dim, ExecSpace>::surface_load_sums() {
+SurfaceLoads<Dim> Simulation<Dim, ExecSpace>::surface_loads() {
   neighbourhood_stage();
   wall_pressure_stage();
+  // One list, summed over the processes at once: per grain its force and
+  // torque, then the walls' force, the image's, the fluid's mass, and the
+  // count of grain boundary particles that no grain has (0 in a correct run).
   constexpr int kSpin = spin_components<Dim>();
   const int grains = static_cast<int>(scene_.grains.size());
   const int walls = grains * (Dim + kSpin), image = walls + Dim, fluid_mass = image + Dim, lost = fluid_mass + 1;
-  Kokkos::View<double*, MemorySpace> totals("surface_load_sums", lost + 1);
+  Kokkos::View<double*, MemorySpace> totals("surface_loads", lost + 1);
   const auto Q = particles_;
   const auto map = solid_map_.grains;
   const double tolerance = 1e-6 * scene_.particle_spacing;
@@ -690,22 +698,26 @@ std::vector<double> Simulation<Dim, ExecSpace>::surface_load_sums() {
         }
         for (int d = 0; d < Dim; ++d) Kokkos::atomic_add(&totals(first + d), F[d]);
       });
-  const auto kind = particles_.kind;
-  const auto m = particles_.m;
-  double mass = 0;
-  static const std::string label = "poresph::fluid_mass";
-  Kokkos::parallel_reduce(
-      label, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
-      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid ? m(i) : 0.0; }, mass);
   auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), totals);
   std::vector<double> sums(host.data(), host.data() + lost + 1);
-  sums[fluid_mass] = mass;
+  sums[fluid_mass] = local_fluid_mass();
   comm_.sum(sums.data(), static_cast<int>(sums.size()));
   if (sums[lost] > 0)
-    throw std::logic_error("surface_load_sums: " + std::to_string(static_cast<long long>(sums[lost])) +
+    throw std::logic_error("surface_loads: " + std::to_string(static_cast<long long>(sums[lost])) +
                            " boundary particles of grains that no grain has");
-  sums.pop_back();
-  return sums;
+  SurfaceLoads<Dim> loads;
+  loads.grain_force.resize(grains);
+  loads.grain_torque.resize(grains);
+  for (int g = 0; g < grains; ++g) {
+    const double* s = sums.data() + g * (Dim + kSpin);
+    for (int d = 0; d < Dim; ++d) loads.grain_force[g][d] = s[d];
+    for (int k = 0; k < kSpin; ++k) loads.grain_torque[g][k] = s[Dim + k];
+  }
+  for (int d = 0; d < Dim; ++d) {
+    loads.walls[d] = sums[walls + d], loads.image[d] = sums[image + d];
+    loads.body_force_on_fluid[d] = sums[fluid_mass] * scene_.body_force[d];
+  }
+  return loads;
 }
 
 template <int Dim, class ExecSpace>

@@ -16,6 +16,7 @@
 #include "core/Vec.hpp"
 #include "geometry/Solid.hpp"
 #include "diagnostics/Health.hpp"
+#include "diagnostics/SurfaceLoads.hpp"
 #include "scene/SceneConfig.hpp"
 #include "parallel/Communicator.hpp"
 #include "parallel/Decomposition.hpp"
@@ -154,14 +155,14 @@ class Simulation {
   const RigidGrains<Dim, ExecSpace>& rigid_grains() const { return rigid_grains_; }
 
   // The fluid's force on the solid at the current state, summed over all
-  // processes, as one list: each grain's force (Dim) and torque about its
-  // centre (1 in 2D, 3 in 3D), then the plane walls' force, an image's, and
-  // the fluid's mass (diagnostics/SurfaceLoads.hpp reads it). From the pair
-  // terms of the rates, so that it and the fluid's momentum change from the
-  // surfaces add to zero to round-off (physics/PairRates.hpp,
-  // compute_surface_forces). Brings pressures, ghosts and the wall pressure
-  // to the state first; the rates are left as they were.
-  std::vector<double> surface_load_sums();
+  // processes: each grain's force and torque about its centre, the plane
+  // walls' and an image's force, and the fluid's mass times the body force.
+  // From the pair terms of the rates, so that the loads and the fluid's
+  // momentum change from the surfaces add to zero to round-off
+  // (physics/PairRates.hpp, compute_surface_forces); summed per grain in
+  // that pass, with no array a particle. Brings pressures, ghosts and the
+  // wall pressure to the state first; the rates are left as they were.
+  SurfaceLoads<Dim> surface_loads();
 
   // Neighbour-list rebuilds so far (the list is kept while particles move less than half the skin).
   long long neighbour_rebuilds() const { return neighbourhood_.builds(); }
@@ -228,6 +229,7 @@ class Simulation {
   void grains_correct_stage();   // "grains correct": the whole step, their particles placed
   void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity
   void place_grains();           // the grains' particles where the grains are, and the solid map with them
+  double local_fluid_mass() const;  // of this process's fluid particles
   // Stops the run if the step left a particle count change or an unhealthy
   // particle; known_healthy: the corrector found none here (only the count
   // is left to check).

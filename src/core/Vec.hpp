@@ -58,4 +58,35 @@ KOKKOS_FORCEINLINE_FUNCTION void set_row(const View& v, int i, const Vec<Dim>& r
   for (int d = 0; d < Dim; ++d) v(i, d) = r.c[d];
 }
 
+// Angular quantities: about z in 2D (one component), a vector in 3D.
+template <int Dim>
+constexpr int spin_components() {
+  return Dim == 2 ? 1 : 3;
+}
+
+// omega x r.
+template <int Dim>
+KOKKOS_INLINE_FUNCTION void spin_cross(const double* omega, const double* r, double* out) {
+  if constexpr (Dim == 2) {
+    out[0] = -omega[0] * r[1];
+    out[1] = omega[0] * r[0];
+  } else {
+    out[0] = omega[1] * r[2] - omega[2] * r[1];
+    out[1] = omega[2] * r[0] - omega[0] * r[2];
+    out[2] = omega[0] * r[1] - omega[1] * r[0];
+  }
+}
+
+// r x F: the torque (one component about z in 2D).
+template <int Dim>
+KOKKOS_INLINE_FUNCTION void moment_of(const double* r, const double* F, double* out) {
+  if constexpr (Dim == 2) {
+    out[0] = r[0] * F[1] - r[1] * F[0];
+  } else {
+    out[0] = r[1] * F[2] - r[2] * F[1];
+    out[1] = r[2] * F[0] - r[0] * F[2];
+    out[2] = r[0] * F[1] - r[1] * F[0];
+  }
+}
+
 }  // namespace poresph

@@ -13,6 +13,7 @@
 
 #include "diagnostics/Observer.hpp"
 #include "diagnostics/StageSetting.hpp"
+#include "core/Vec.hpp"
 #include "io/HistoryFile.hpp"
 
 namespace poresph {
@@ -22,7 +23,7 @@ class GrainsHistory : public Observer<Sim> {
  public:
   GrainsHistory(const Sim& sim, const std::string& path, long long interval) : interval_(interval) {
     if (sim.communicator().rank() != 0) return;
-    constexpr int kSpin = Dim == 2 ? 1 : 3;
+    constexpr int kSpin = spin_components<Dim>();
     std::string header = "step,time,grain";
     for (int d = 0; d < Dim; ++d) header += std::string(",centre_") + "xyz"[d];
     for (int d = 0; d < Dim; ++d) header += std::string(",velocity_") + "xyz"[d];
@@ -55,7 +56,7 @@ class GrainsHistory : public Observer<Sim> {
   void write(const Sim& sim) {
     std::ofstream* out = file_.stream();
     if (!out) return;
-    constexpr int kSpin = Dim == 2 ? 1 : 3;
+    constexpr int kSpin = spin_components<Dim>();
     const auto& bodies = sim.rigid_grains().bodies();
     char buffer[64];
     auto put = [&](double value) {

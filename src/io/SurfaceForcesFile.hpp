@@ -19,7 +19,7 @@ namespace poresph {
 // torques in N m, per metre in 2D, about the axis out of the plane).
 template <int Dim>
 std::string surface_forces_csv(const SurfaceLoads<Dim> &loads, const std::vector<Grain> &grains) {
-  constexpr int kT = SurfaceLoads<Dim>::kTorqueComponents;
+  constexpr int kT = spin_components<Dim>();
   std::string text = "surface,index";
   for (int d = 0; d < Dim; ++d) text += std::string(",force_") + "xyz"[d];
   if (kT == 1)
@@ -70,7 +70,7 @@ class SurfaceForcesFile : public Observer<Sim> {
   bool writes() const override { return true; }
 
   void at_end(Sim &sim) override {
-    const SurfaceLoads<Dim> loads = surface_loads<Dim>(sim);
+    const SurfaceLoads<Dim> loads = sim.surface_loads();
     if (sim.communicator().rank() == 0)
       write_file_atomically(path_, surface_forces_csv<Dim>(loads, sim.scene().grains));
   }

@@ -65,7 +65,7 @@ struct PairLoopOptions {
   // SurfaceReactionTerm.hpp): the fluid's force on the surfaces, m times
   // the boundary particle's acceleration sum. On in the time loop of a
   // scene whose grains move (physics/RigidGrains.hpp); otherwise only in
-  // Simulation::surface_load_sums.
+  // Simulation::surface_loads.
   bool surface_reactions = false;
 };
 

@@ -20,7 +20,6 @@
 
 #include <array>
 #include <cmath>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -31,37 +30,6 @@
 #include "scene/SceneConfig.hpp"
 
 namespace poresph {
-
-// Angular quantities: about z in 2D (one component), a vector in 3D.
-template <int Dim>
-constexpr int spin_components() {
-  return Dim == 2 ? 1 : 3;
-}
-
-// omega x r.
-template <int Dim>
-KOKKOS_INLINE_FUNCTION void spin_cross(const double* omega, const double* r, double* out) {
-  if constexpr (Dim == 2) {
-    out[0] = -omega[0] * r[1];
-    out[1] = omega[0] * r[0];
-  } else {
-    out[0] = omega[1] * r[2] - omega[2] * r[1];
-    out[1] = omega[2] * r[0] - omega[0] * r[2];
-    out[2] = omega[0] * r[1] - omega[1] * r[0];
-  }
-}
-
-// r x F: the torque (one component about z in 2D).
-template <int Dim>
-KOKKOS_INLINE_FUNCTION void moment_of(const double* r, const double* F, double* out) {
-  if constexpr (Dim == 2) {
-    out[0] = r[0] * F[1] - r[1] * F[0];
-  } else {
-    out[0] = r[1] * F[2] - r[2] * F[1];
-    out[1] = r[2] * F[0] - r[0] * F[2];
-    out[2] = r[0] * F[1] - r[1] * F[0];
-  }
-}
 
 // The rotation by angle (2D) or rotation vector (3D, Rodrigues) theta, as a
 // row-major Dim x Dim matrix.
@@ -150,8 +118,9 @@ class RigidGrains {
   // To the step's mid-point with the accelerations of the last loads.
   void predict(double dt) {
     begin_ = bodies_;
-    for (Body& b : bodies_) {
-      const Body& s = begin_[&b - bodies_.data()];
+    for (size_t g = 0; g < bodies_.size(); ++g) {
+      Body& b = bodies_[g];
+      const Body& s = begin_[g];
       for (int d = 0; d < Dim; ++d) {
         if (motion_ == GrainMotion::Free) b.centre[d] = s.centre[d] + 0.5 * dt * s.velocity[d];
         b.velocity[d] = s.velocity[d] + 0.5 * dt * s.acceleration[d];
@@ -162,20 +131,19 @@ class RigidGrains {
   }
   // The whole step from its start with the mid-point's accelerations.
   void correct(double dt) {
-    for (Body& b : bodies_) {
-      const Body& s = begin_[&b - bodies_.data()];
+    for (size_t g = 0; g < bodies_.size(); ++g) {
+      Body& b = bodies_[g];
+      const Body& s = begin_[g];
       for (int d = 0; d < Dim; ++d) {
         b.velocity[d] = s.velocity[d] + dt * b.acceleration[d];
         if (motion_ == GrainMotion::Free) b.centre[d] = s.centre[d] + 0.5 * dt * (s.velocity[d] + b.velocity[d]);
       }
-      for (int c = 0; c < kSpin; ++c) b.spin[c] = s.spin[c] + dt * b.spin_rate[c];
+      for (int c = 0; c < kSpin; ++c) {
+        b.spin[c] = s.spin[c] + dt * b.spin_rate[c];
+        b.turned[c] = s.turned[c] + 0.5 * dt * (s.spin[c] + b.spin[c]);
+      }
     }
-    const auto turns = half_turns(dt, true);
-    for (Body& b : bodies_) {
-      const Body& s = begin_[&b - bodies_.data()];
-      for (int c = 0; c < kSpin; ++c) b.turned[c] = s.turned[c] + 0.5 * dt * (s.spin[c] + b.spin[c]);
-    }
-    upload(turns);
+    upload(half_turns(dt, true));
   }
 
   // Puts every owned boundary particle of a grain where its grain is now,
