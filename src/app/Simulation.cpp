@@ -5,12 +5,14 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "core/ExecutionSpaces.hpp"
 #include "core/Math.hpp"
 #include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
 #include "parallel/RcbDecomposition.hpp"
+#include "physics/ContactLaw.hpp"
 #include "physics/Density.hpp"
 #include "physics/LevelStart.hpp"
 #include "physics/PredictorCorrector.hpp"
@@ -84,6 +86,28 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
     throw std::invalid_argument(msg.str());
   }
   p.limits = time_step_limits(p.smoothing_length, p.sound_speed, nu, force_norm);
+  // Free grains touch: the time step resolves the shortest collision, that of
+  // the two lightest grains at the velocity scale, or the contact is made as
+  // soft as the fluid's time step resolves.
+  const bool contacts = scene.grain_motion == GrainMotion::Free && !scene.grains.empty();
+  double lightest_mass = 0, lightest_radius = 0;
+  if (contacts) {
+    double smallest = scene.grains[0].radius;
+    for (const Grain& g : scene.grains) smallest = std::min(smallest, g.radius);
+    lightest_radius = smallest;
+    lightest_mass = scene.grain_density * (dim == 2 ? M_PI * smallest * smallest : 4.0 / 3.0 * M_PI * std::pow(smallest, 3));
+  }
+  const double young = scene.grain_contact.young_modulus;
+  if (contacts && young > 0) {
+    auto collision = [&](auto dimension) {
+      constexpr int D = decltype(dimension)::value;
+      const ContactLaw<D> law(young, scene.grain_contact, scene.particle_spacing);
+      return law.collision_time(0.5 * lightest_mass, 0.5 * lightest_radius, p.velocity_scale, false);
+    };
+    const double duration = dim == 2 ? collision(std::integral_constant<int, 2>{})
+                                     : collision(std::integral_constant<int, 3>{});
+    p.limits.contact = duration / kStepsPerCollision;
+  }
   p.time_step = scene.time_step > 0 ? scene.time_step : p.limits.smallest();
   if (!(p.time_step > 0) || !std::isfinite(p.time_step)) {
     std::ostringstream msg;
@@ -96,8 +120,18 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
     std::ostringstream msg;
     msg << "Discretization/Time Step = " << scene.time_step << " exceeds the stability limit "
         << p.limits.smallest() << " (acoustic " << p.limits.acoustic << ", viscous " << p.limits.viscous
-        << ", body force " << p.limits.force << ")";
+        << ", body force " << p.limits.force << ", contact " << p.limits.contact << ")";
     throw std::invalid_argument(msg.str());
+  }
+  p.contact_modulus = 0;
+  if (contacts) {
+    auto soft = [&](auto dimension) {
+      return contact_modulus_for_steps<decltype(dimension)::value>(scene.grain_contact, lightest_mass, lightest_radius,
+                                                                   p.velocity_scale, p.time_step, kStepsPerCollision);
+    };
+    p.contact_modulus = young > 0 ? young
+                        : dim == 2 ? soft(std::integral_constant<int, 2>{})
+                                   : soft(std::integral_constant<int, 3>{});
   }
   return p;
 }
@@ -222,7 +256,8 @@ void Simulation<Dim, ExecSpace>::start_moving_grains() {
   particles_.keep_grain_index();
   const int owned = particles_.owned;
   Kokkos::deep_copy(space_, Kokkos::subview(particles_.grain, Kokkos::make_pair(0, owned)), grain_ids());
-  rigid_grains_ = RigidGrains<Dim, ExecSpace>(scene_, comm_.sum(local_fluid_mass()));
+  rigid_grains_ = RigidGrains<Dim, ExecSpace>(scene_, comm_.sum(local_fluid_mass()), derived_.contact_modulus);
+  rigid_grains_.set_particle_velocities(space_, particles_);
   for (int d = 0; d < Dim; ++d) body_force_[d] = rigid_grains_.fluid_body_force()[d];
   pair_options_.surface_reactions = true;
 }

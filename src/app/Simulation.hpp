@@ -38,6 +38,7 @@ struct DerivedParameters {
   double length_scale;
   TimeStepLimits limits;
   double time_step;
+  double contact_modulus;  // Young's modulus of moving grains' contacts (Grains/Contact); 0: none
 };
 
 DerivedParameters derive_parameters(const SceneConfig& scene);

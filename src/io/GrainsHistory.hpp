@@ -2,7 +2,8 @@
 // grains_history.csv: moving grains' state over a run (physics/RigidGrains.hpp),
 // one row a grain every check interval and at the end: time, centre,
 // velocity, spin (angular velocity; about z in 2D), the angle turned (2D),
-// and the fluid's force and torque on it. Every write is checked
+// the fluid's force and torque on it, the contacts' force and torque on it
+// and their count. Every write is checked
 // (io/HistoryFile.hpp); a restart of moving grains is refused, so a run
 // always starts the file afresh.
 #include <cstdio>
@@ -34,6 +35,11 @@ class GrainsHistory : public Observer<Sim> {
     if (kSpin == 1) header += ",torque";
     else
       for (int k = 0; k < kSpin; ++k) header += std::string(",torque_") + "xyz"[k];
+    for (int d = 0; d < Dim; ++d) header += std::string(",contact_force_") + "xyz"[d];
+    if (kSpin == 1) header += ",contact_torque";
+    else
+      for (int k = 0; k < kSpin; ++k) header += std::string(",contact_torque_") + "xyz"[k];
+    header += ",contacts";
     file_.open(path, header + "\n", false, 0);
     write(sim);
   }
@@ -74,6 +80,9 @@ class GrainsHistory : public Observer<Sim> {
       if (kSpin == 1) put(b.turned[0]);
       for (int d = 0; d < Dim; ++d) put(b.fluid_force[d]);
       for (int k = 0; k < kSpin; ++k) put(b.fluid_torque[k]);
+      for (int d = 0; d < Dim; ++d) put(b.contact_force[d]);
+      for (int k = 0; k < kSpin; ++k) put(b.contact_torque[k]);
+      *out << "," << b.contacts;
       *out << "\n";
     }
     file_.check();

@@ -172,6 +172,35 @@ RCP<ParameterList> make_valid_parameters() {
           "suspension is held up as a whole by a uniform pressure gradient on fluid and grains by volume, so "
           "that the grains settle against the fluid (docs/method.md, 'Grains that move'). Empty: none.",
           reals_in(-kHuge, kHuge));
+    s.set("Initial Velocity", Array<double>(),
+          "Velocity of the moving grains at the start (m/s): one value per direction for every grain, or one "
+          "per direction for each grain in turn (vx, vy, vx, vy, ...). Empty: at rest.",
+          reals_in(-kHuge, kHuge));
+    {
+      auto& c = s.sublist("Contact", false,
+                          "Contact between moving grains and of a grain with a channel wall (Grains/Motion = free): a "
+                          "soft-sphere law, Hertz's normal force in 3D (cylinders pressed along a line in 2D) with "
+                          "damping for the restitution and Coulomb friction, acting where the gap between two "
+                          "surfaces closes below Cutoff Spacings (physics/ContactLaw.hpp, docs/method.md).");
+      c.set("Young Modulus", 0.0,
+            "Young's modulus of the grains' solid (Pa). The time step then resolves the shortest collision at the "
+            "flow's velocity scale in 40 steps, which for a real solid can make it very small. 0: the modulus that "
+            "makes that collision last 40 of the fluid's time steps (soft, and free of cost).",
+            real_in(0.0, kHuge));
+      c.set("Poisson Ratio", 0.3, "Poisson's ratio of the grains' solid.", real_in(0.0, 0.5));
+      c.set("Restitution", 0.9,
+            "Coefficient of restitution of a head-on collision (the speed after over the speed before, in the "
+            "absence of fluid), in (0, 1]; the same at every speed of impact.",
+            real_in(1e-6, 1.0));
+      c.set("Friction", 0.3, "Coulomb friction coefficient of the contact (tangential force at most this times "
+                             "the normal force).",
+            real_in(0.0, 100.0));
+      c.set("Cutoff Spacings", 1.0,
+            "The gap between two surfaces, in particle spacings, below which they are in contact: no fluid "
+            "particle fits there, and the lubrication force that would keep them apart is not resolved. 0: "
+            "contact at touching.",
+            real_in(0.0, 100.0));
+    }
     auto& p = s.sublist("Random Pack", false,
                         "A random periodic pack of grains made at set-up (src/geometry/RandomPack.hpp: radii drawn "
                         "to the porosity, grains grown from random centres by collective rearrangement), the same "

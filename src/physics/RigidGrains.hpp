@@ -16,6 +16,9 @@
 // direction a uniform pressure gradient on both by volume holds the cell's
 // contents up as a whole (it has nothing else to rest on), so the grains
 // settle against the fluid and the total momentum stays what it was.
+// Free grains also touch one another and the channel's walls through a
+// contact law (physics/ContactLaw.hpp), evaluated where the fluid's loads
+// are, at the state of the step's start and of its mid-point.
 #include <Kokkos_Core.hpp>
 
 #include <array>
@@ -26,6 +29,7 @@
 #include "core/Math.hpp"
 #include "core/Particles.hpp"
 #include "core/Vec.hpp"
+#include "physics/ContactLaw.hpp"
 #include "parallel/Communicator.hpp"
 #include "scene/SceneConfig.hpp"
 
@@ -67,20 +71,32 @@ class RigidGrains {
     Spin turned{};             // the angle turned since the start (2D; in 3D the steps' rotation vectors, summed)
     Vector fluid_force{};      // the fluid's force and torque at the last loads
     Spin fluid_torque{};
+    Vector contact_force{};    // the contacts' force and torque at the last loads, and their count
+    Spin contact_torque{};
+    int contacts = 0;
     double mass = 0, inertia = 0, volume = 0, radius = 0;
   };
 
   RigidGrains() = default;
 
-  // The scene's grains at rest; fluid_mass over all processes. Sets the
-  // fluid's share of gravity and of the support (fluid_body_force()).
-  RigidGrains(const SceneConfig& scene, double fluid_mass)
+  // The scene's grains at Grains/Initial Velocity; fluid_mass over all
+  // processes. Sets the fluid's share of gravity and of the support
+  // (fluid_body_force()). Free grains touch with Young's modulus
+  // contact_modulus (DerivedParameters).
+  RigidGrains(const SceneConfig& scene, double fluid_mass, double contact_modulus)
       : motion_(scene.grain_motion), cell_(scene.cell_size), periodic_(scene.periodic) {
     if (motion_ == GrainMotion::Fixed) return;
+    if (motion_ == GrainMotion::Free && contact_modulus > 0)
+      contact_ = ContactLaw<Dim>(contact_modulus, scene.grain_contact, scene.particle_spacing);
+    wall_height_ = scene.walls == WallType::Channel ? scene.cell_size[1] : 0.0;
     double grain_mass = 0, grain_volume = 0;
     for (const Grain& g : scene.grains) {
       Body b;
       for (int d = 0; d < Dim; ++d) b.centre[d] = g.centre[d];
+      const std::vector<double>& start = scene.grain_velocity;
+      const size_t first = start.size() == Dim ? 0 : bodies_.size() * Dim;
+      if (!start.empty())
+        for (int d = 0; d < Dim; ++d) b.velocity[d] = start[first + d];
       b.radius = g.radius;
       b.volume = Dim == 2 ? M_PI * g.radius * g.radius : 4.0 / 3.0 * M_PI * g.radius * g.radius * g.radius;
       b.mass = scene.grain_density * b.volume;
@@ -182,6 +198,24 @@ class RigidGrains {
         });
   }
 
+  // At the start: every owned boundary particle of a grain at its grain's
+  // velocity (Grains/Initial Velocity), where place() sets it in the steps.
+  void set_particle_velocities(const ExecSpace& space, const Particles<Dim, MemorySpace>& P) const {
+    const auto Q = P;
+    const auto U = velocity_, w = spin_;
+    static const std::string label = "poresph::RigidGrains::set_particle_velocities";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
+          const int g = Q.grain(i);
+          if (g < 0) return;
+          double omega[kSpin], r[Dim], moved[Dim];
+          for (int k = 0; k < kSpin; ++k) omega[k] = w(g, k);
+          for (int d = 0; d < Dim; ++d) r[d] = Q.wall_vector(i, d);
+          spin_cross<Dim>(omega, r, moved);
+          for (int d = 0; d < Dim; ++d) Q.v(i, d) = U(g, d) + moved[d];
+        });
+  }
+
   // The loads on the grains from their owned boundary particles' dv/dt (the
   // reactions of the pair loop just run), summed over the processes, and
   // the grains' accelerations from them.
@@ -206,14 +240,37 @@ class RigidGrains {
     for (int g = 0; g < n; ++g) {
       Body& b = bodies_[g];
       const double* s = sums.data() + g * (Dim + kSpin);
+      for (int d = 0; d < Dim; ++d) b.fluid_force[d] = s[d];
+      for (int k = 0; k < kSpin; ++k) b.fluid_torque[k] = s[Dim + k];
+    }
+    accelerate();
+  }
+
+  // The grains' accelerations from the fluid's loads (Body::fluid_force,
+  // fluid_torque), the contacts at the present state, and the external forces.
+  void accelerate() {
+    std::vector<ContactBody<Dim>> touching(bodies_.size());
+    for (size_t g = 0; g < bodies_.size(); ++g) {
+      const Body& b = bodies_[g];
+      touching[g] = {b.centre, b.velocity, b.spin, b.mass, b.radius};
+    }
+    const ContactLoads<Dim> contact = contact_loads<Dim>(touching, contact_, cell_, periodic_, wall_height_);
+    for (size_t g = 0; g < bodies_.size(); ++g) {
+      Body& b = bodies_[g];
+      b.contacts = contact.contacts[g];
       for (int d = 0; d < Dim; ++d) {
-        b.fluid_force[d] = s[d];
+        b.contact_force[d] = contact.force[g][d];
         const double external = b.mass * gravity_[d] + b.volume * volume_force_[d];
-        b.acceleration[d] = motion_ == GrainMotion::Free ? (s[d] + external) / b.mass : 0.0;
+        const double total = b.fluid_force[d] + b.contact_force[d] + external;
+        b.acceleration[d] = motion_ == GrainMotion::Free ? total / b.mass : 0.0;
       }
-      for (int k = 0; k < kSpin; ++k) b.fluid_torque[k] = s[Dim + k], b.spin_rate[k] = s[Dim + k] / b.inertia;
+      for (int k = 0; k < kSpin; ++k) {
+        b.contact_torque[k] = contact.torque[g][k];
+        b.spin_rate[k] = (b.fluid_torque[k] + b.contact_torque[k]) / b.inertia;
+      }
     }
   }
+  const ContactLaw<Dim>& contact_law() const { return contact_; }
 
  private:
   using View = Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>;
@@ -253,6 +310,8 @@ class RigidGrains {
   GrainMotion motion_ = GrainMotion::Fixed;
   std::array<double, 3> cell_{};
   std::array<bool, 3> periodic_{};
+  ContactLaw<Dim> contact_;  // inactive unless the grains are free
+  double wall_height_ = 0;   // the channel's upper wall (0: no walls)
   std::vector<Body> bodies_, begin_;
   Vector fluid_body_force_{}, gravity_{}, volume_force_{};
   View centre_start_, centre_, velocity_, spin_, turn_;

@@ -19,7 +19,8 @@ struct TimeStepLimits {
   double acoustic;  // 0.25 h / c
   double viscous;   // 0.125 h^2 / nu
   double force;     // 0.25 sqrt(h / |F|)
-  double smallest() const { return std::min({acoustic, viscous, force}); }
+  double contact = std::numeric_limits<double>::infinity();  // the shortest grain collision over 40 (ContactLaw.hpp)
+  double smallest() const { return std::min({acoustic, viscous, force, contact}); }
 };
 
 inline TimeStepLimits time_step_limits(double h, double sound_speed, double nu, double body_force_norm) {

@@ -70,6 +70,16 @@ enum class Backend { Default, Serial, OpenMP };
 // under the fluid's force and torque and gravity), Rotating (centres held,
 // turning freely). physics/RigidGrains.hpp.
 enum class GrainMotion { Fixed, Free, Rotating };
+// What Grains/Contact sets (physics/ContactLaw.hpp): the solid's
+// elasticity, the restitution and friction of a contact, and the gap at
+// which it begins.
+struct ContactMaterial {
+  double young_modulus = 0;  // Pa; 0: soft, from the time step (contact_modulus_for_steps)
+  double poisson_ratio = 0.3;
+  double restitution = 0.9;
+  double friction = 0.3;
+  double cutoff_spacings = 1.0;  // the gap, in particle spacings
+};
 
 struct SceneConfig {
   std::string name = "scene";
@@ -106,6 +116,8 @@ struct SceneConfig {
   GrainMotion grain_motion = GrainMotion::Fixed;
   double grain_density = 0.0;          // kg/m^3, for moving grains' mass and inertia
   std::array<double, 3> gravity{};     // on moving grains and the fluid (Grains/Gravity)
+  std::vector<double> grain_velocity;  // Grains/Initial Velocity: Dim values, or Dim a grain; empty: at rest
+  ContactMaterial grain_contact;       // Grains/Contact
   bool moving_grains() const { return grain_motion != GrainMotion::Fixed && !grains.empty(); }
   // How the grains were made when PoreSPH made them (Grains/Random Pack):
   // the header of grains_used.txt. Empty for grains given in the scene.

@@ -8,6 +8,7 @@ exit status, the message, and the state of the output directory afterwards
 (nothing written, nothing overwritten, nothing mixed). A case prints "ok" or
 what failed; the script fails if any case did.
 """
+import csv
 import hashlib
 import json
 import os
@@ -255,9 +256,43 @@ def class_3_grains():
                                             "Grains/Gravity={0, 0, -9.81}"],
          r"Grains/Gravity must have one value per direction \(2\)"),
         ("a negative grain density", [grain, "Grains/Density=-1"], r"Grains/Density"),
+        ("a start velocity for grains that hold still", [grain, "Grains/Initial Velocity={0.1, 0}"],
+         r"Grains/Initial Velocity sets moving grains going: with Grains/Motion = fixed"),
+        ("a start velocity for grains that only turn", [grain, "Grains/Motion=rotating", "Grains/Density=2000",
+                                                        lagrangian, "Grains/Initial Velocity={0.1, 0}"],
+         r"with Grains/Motion = rotating they are held"),
+        ("a start velocity of the wrong count", [grain, "Grains/Motion=free", "Grains/Density=2000", lagrangian,
+                                                 "Grains/Initial Velocity={0.1, 0, 0}"],
+         r"Grains/Initial Velocity has 3 values: give 2 \(every grain alike\) or 2"),
+        ("a contact that restitutes nothing", [grain, "Grains/Contact/Restitution=0"], r"Restitution"),
+        ("a contact that restitutes more than it got", [grain, "Grains/Contact/Restitution=1.5"], r"Restitution"),
+        ("a negative Young's modulus", [grain, "Grains/Contact/Young Modulus=-1"], r"Young Modulus"),
     ]
     for name, settings, message in motion_cases:
         case(name + " is refused", [TINY, "--output", base] + sets(*settings), 2, message, absent(base))
+    # Two grains thrown at each other meet and touch, and the contact throws
+    # them back: the contacts go to grains_history.csv.
+    colliding = fresh("colliding-grains")
+    def met_and_parted():
+        with open(os.path.join(colliding, "grains_history.csv")) as f:
+            rows = [r for r in csv.DictReader(f) if r["grain"] == "0"]
+        touching = [r["step"] for r in rows if int(r["contacts"]) > 0]
+        if not touching:
+            return "no row of grains_history.csv shows a contact"
+        if min(float(r["velocity_x"]) for r in rows) >= 0:
+            return f"grain 0 never turned back: {rows}"
+        return ""
+    case("two grains thrown at each other touch and bounce back",
+         [TINY, "--output", colliding] + sets("Grains/Inline={0.3, 0.5, 0.15, 0.7, 0.5, 0.15}", "Grains/Motion=free",
+                                              "Grains/Density=2500", lagrangian, "Fluid/Velocity Scale=0.1",
+                                              "Fluid/Kinematic Viscosity=0.001", "Run/Max Steps=300",
+                                              "Grains/Initial Velocity={0.05, 0, -0.05, 0}"),
+         0, r"summary in", met_and_parted)
+    light = fresh("light-grains")
+    case("grains far lighter than the fluid are warned of",
+         [TINY, "--output", light] + sets(grain, "Grains/Motion=free", "Grains/Density=100", lagrangian,
+                                          "Run/Max Steps=5"),
+         0, r"warning: Grains/Density = 100 kg/m\^3 is 0.1 of the fluid's: .*added mass", None)
     moving = fresh("moving-grains")
     moving_scene = [grain, "Grains/Motion=free", "Grains/Density=2000", lagrangian]
     good_run(moving, *moving_scene)
