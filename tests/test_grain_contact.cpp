@@ -165,6 +165,46 @@ TEST(GrainContact, FrictionTurnsTheGrainsAndKeepsAngularMomentum) {
               angular() - before, scale);
 }
 
+// Among many grains, the contacts found through the grain bins are every
+// pair closer than the cut-off (nearest periodic images), counted by brute
+// force; and their forces add to zero.
+TEST(GrainContact, FindsEveryCloseGrainPairAmongMany) {
+  SceneConfig frame = testing::periodic_box(3, 20);
+  ContactMaterial material;
+  const ContactLaw<3> law(1e5, material, 0.02);
+  std::vector<ContactBody<3>> bodies;
+  unsigned state = 12345;
+  auto uniform = [&]() { return (state = state * 1103515245u + 12345u) / 4294967296.0; };
+  for (int g = 0; g < 400; ++g) {
+    ContactBody<3> b;
+    for (int d = 0; d < 3; ++d) b.centre[d] = uniform(), b.velocity[d] = uniform() - 0.5;
+    b.radius = 0.04 + 0.03 * uniform();
+    b.mass = 1.0;
+    bodies.push_back(b);
+  }
+  const ContactLoads<3> loads = contact_loads<3>(bodies, law, frame);
+  std::vector<int> expected(bodies.size(), 0);
+  for (size_t a = 0; a < bodies.size(); ++a)
+    for (size_t b = a + 1; b < bodies.size(); ++b) {
+      double distance = 0;
+      for (int d = 0; d < 3; ++d) {
+        double r = bodies[b].centre[d] - bodies[a].centre[d];
+        r -= std::round(r);
+        distance += r * r;
+      }
+      if (std::sqrt(distance) - bodies[a].radius - bodies[b].radius < law.cutoff_gap) ++expected[a], ++expected[b];
+    }
+  int pairs = 0;
+  double total[3] = {}, magnitude = 0;
+  for (size_t g = 0; g < bodies.size(); ++g) {
+    EXPECT_EQ(loads.contacts[g], expected[g]) << "grain " << g;
+    pairs += expected[g];
+    for (int d = 0; d < 3; ++d) total[d] += loads.force[g][d], magnitude += std::abs(loads.force[g][d]);
+  }
+  EXPECT_GT(pairs, 100);
+  for (int d = 0; d < 3; ++d) EXPECT_LT(std::abs(total[d]), 1e-15 * magnitude);
+}
+
 // A grain thrown at the channel's lower wall bounces off it at the
 // restitution set (a rigid wall: the grain's own mass).
 TEST(GrainContact, BouncesOffAChannelWall) {

@@ -83,4 +83,21 @@ class GrainBins {
   std::vector<size_t> begin_, members_;
 };
 
+inline double largest_radius(const std::vector<Grain>& grains) {
+  double r = 0;
+  for (const auto& g : grains) r = std::max(r, g.radius);
+  return r;
+}
+
+// f(i, j) for every pair i < j whose surfaces, at the nearest periodic
+// image, are closer than `reach` (and perhaps a few more): each pair once.
+template <class F>
+void for_each_close_pair(const std::vector<Grain>& grains, const SceneConfig& scene, double reach, F&& f) {
+  const GrainBins bins(grains, scene, 2 * largest_radius(grains) + reach);
+  for (size_t i = 0; i < grains.size(); ++i)
+    bins.for_each_near(grains[i].centre, [&](size_t j) {
+      if (j > i) f(i, j);
+    });
+}
+
 }  // namespace poresph

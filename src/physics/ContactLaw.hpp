@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "core/Vec.hpp"
+#include "geometry/GrainBins.hpp"
 #include "scene/SceneConfig.hpp"
 
 namespace poresph {
@@ -155,10 +156,16 @@ struct ContactLoads {
   std::vector<int> contacts;
 };
 
+// `frame` gives the cell, its periodic directions and its walls (its
+// grains are not read); the pairs near enough to touch are found through
+// grain bins (geometry/GrainBins.hpp), so the cost grows with the grains'
+// number, not its square.
 template <int Dim>
 ContactLoads<Dim> contact_loads(const std::vector<ContactBody<Dim>>& bodies, const ContactLaw<Dim>& law,
-                                const std::array<double, 3>& cell, const std::array<bool, 3>& periodic,
-                                double wall_height) {
+                                const SceneConfig& frame) {
+  const std::array<double, 3>& cell = frame.cell_size;
+  const std::array<bool, 3>& periodic = frame.periodic;
+  const double wall_height = frame.walls == WallType::Channel ? cell[1] : 0.0;
   constexpr int kSpin = spin_components<Dim>();
   const int n = static_cast<int>(bodies.size());
   ContactLoads<Dim> loads;
@@ -212,20 +219,25 @@ ContactLoads<Dim> contact_loads(const std::vector<ContactBody<Dim>>& bodies, con
     for (int k = 0; k < kSpin; ++k) loads.torque[b][k] += torque_b[k];
     ++loads.contacts[b];
   };
+  std::vector<Grain> placed(n);
   for (int a = 0; a < n; ++a) {
-    for (int b = a + 1; b < n; ++b) {
-      double between[Dim], distance = 0;
-      for (int d = 0; d < Dim; ++d) {
-        double r = bodies[b].centre[d] - bodies[a].centre[d];
-        if (periodic[d]) r -= cell[d] * std::round(r / cell[d]);
-        between[d] = r, distance += r * r;
-      }
-      distance = std::sqrt(distance);
-      const double gap = distance - bodies[a].radius - bodies[b].radius;
-      if (gap >= law.cutoff_gap || distance == 0) continue;
-      for (double& r : between) r /= distance;
-      touch(a, b, between, gap);
+    for (int d = 0; d < Dim; ++d) placed[a].centre[d] = bodies[a].centre[d];
+    placed[a].radius = bodies[a].radius;
+  }
+  for_each_close_pair(placed, frame, law.cutoff_gap, [&](size_t a, size_t b) {
+    double between[Dim], distance = 0;
+    for (int d = 0; d < Dim; ++d) {
+      double r = bodies[b].centre[d] - bodies[a].centre[d];
+      if (periodic[d]) r -= cell[d] * std::round(r / cell[d]);
+      between[d] = r, distance += r * r;
     }
+    distance = std::sqrt(distance);
+    const double gap = distance - bodies[a].radius - bodies[b].radius;
+    if (gap >= law.cutoff_gap || distance == 0) return;
+    for (double& r : between) r /= distance;
+    touch(static_cast<int>(a), static_cast<int>(b), between, gap);
+  });
+  for (int a = 0; a < n; ++a) {
     if (wall_height > 0) {
       double down[Dim] = {}, up[Dim] = {};
       down[1] = -1, up[1] = 1;

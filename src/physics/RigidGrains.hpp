@@ -88,7 +88,10 @@ class RigidGrains {
     if (motion_ == GrainMotion::Fixed) return;
     if (motion_ == GrainMotion::Free && contact_modulus > 0)
       contact_ = ContactLaw<Dim>(contact_modulus, scene.grain_contact, scene.particle_spacing);
-    wall_height_ = scene.walls == WallType::Channel ? scene.cell_size[1] : 0.0;
+    frame_.dimension = scene.dimension;
+    frame_.cell_size = scene.cell_size;
+    frame_.periodic = scene.periodic;
+    frame_.walls = scene.walls;
     double grain_mass = 0, grain_volume = 0;
     for (const Grain& g : scene.grains) {
       Body b;
@@ -254,7 +257,7 @@ class RigidGrains {
       const Body& b = bodies_[g];
       touching[g] = {b.centre, b.velocity, b.spin, b.mass, b.radius};
     }
-    const ContactLoads<Dim> contact = contact_loads<Dim>(touching, contact_, cell_, periodic_, wall_height_);
+    const ContactLoads<Dim> contact = contact_loads<Dim>(touching, contact_, frame_);
     for (size_t g = 0; g < bodies_.size(); ++g) {
       Body& b = bodies_[g];
       b.contacts = contact.contacts[g];
@@ -311,7 +314,7 @@ class RigidGrains {
   std::array<double, 3> cell_{};
   std::array<bool, 3> periodic_{};
   ContactLaw<Dim> contact_;  // inactive unless the grains are free
-  double wall_height_ = 0;   // the channel's upper wall (0: no walls)
+  SceneConfig frame_;        // the cell and its walls, for the contacts
   std::vector<Body> bodies_, begin_;
   Vector fluid_body_force_{}, gravity_{}, volume_force_{};
   View centre_start_, centre_, velocity_, spin_, turn_;
