@@ -54,10 +54,6 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   int first_stage = 0;
   bool in_place = false;
   if (!options.restart_file.empty()) {
-    if (scene.moving_grains())
-      throw std::invalid_argument("--restart " + options.restart_file +
-                                  ": a checkpoint does not keep moving grains' velocities and spins yet "
-                                  "(Grains/Motion = free or rotating); run the scene from its start");
     resume_from = read_checkpoint_info(options.restart_file, MPI_COMM_WORLD);
     const auto& st = resume_from->state;
     first_stage = static_cast<int>(st.stage);

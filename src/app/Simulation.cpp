@@ -228,6 +228,8 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   health_limits_ = HealthLimits{scene.density, scene.density_variation_limit, 0.25 * h / dt, h / (16 * dt * dt)};
   if (fixed_) make_stencils();
   make_step_stages();
+  // Set before a checkpoint's particles load: they carry their grain.
+  if (scene.moving_grains()) particles_.keep_grain_index();
   if (start == Start::Empty) return;
 
   {  // the seeds (about 100 bytes a particle in 3D) are gone before the lists are made
@@ -253,7 +255,6 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::start_moving_grains() {
-  particles_.keep_grain_index();
   const int owned = particles_.owned;
   Kokkos::deep_copy(space_, Kokkos::subview(particles_.grain, Kokkos::make_pair(0, owned)), grain_ids());
   rigid_grains_ = RigidGrains<Dim, ExecSpace>(scene_, comm_.sum(local_fluid_mass()), derived_.contact_modulus);
@@ -275,9 +276,23 @@ double Simulation<Dim, ExecSpace>::local_fluid_mass() const {
 }
 
 template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::restore_grains(double fluid_mass, const std::vector<double>& state) {
+  rigid_grains_ = RigidGrains<Dim, ExecSpace>(scene_, fluid_mass, derived_.contact_modulus);
+  rigid_grains_.restore(state);
+  for (int d = 0; d < Dim; ++d) body_force_[d] = rigid_grains_.fluid_body_force()[d];
+  pair_options_.surface_reactions = true;
+  follow_grains();
+}
+
+template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::place_grains() {
   rigid_grains_.place(space_, particles_);
   space_.fence();
+  follow_grains();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::follow_grains() {
   const auto& bodies = rigid_grains_.bodies();
   for (size_t g = 0; g < bodies.size(); ++g)
     for (int d = 0; d < Dim; ++d) {
@@ -617,7 +632,10 @@ void Simulation<Dim, ExecSpace>::resume(long long steps, const typename Particle
   total_count_ = comm_.sum(static_cast<long long>(particles_.owned));
   // With the saved rates the next step needs nothing else: its mid-point
   // refresh updates the ghosts (or, after a redistribution, builds them).
-  if (!rates_valid) compute_rates();
+  if (!rates_valid) {
+    compute_rates();
+    if (rigid_grains_.moving()) rigid_grains_.take_loads(particles_, comm_);
+  }
   space_.fence();
 }
 

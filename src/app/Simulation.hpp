@@ -154,6 +154,9 @@ class Simulation {
   Kokkos::View<int*, MemorySpace> grain_ids() const;
   // Moving grains: their state (centres, velocities, spins, loads); empty when they hold still.
   const RigidGrains<Dim, ExecSpace>& rigid_grains() const { return rigid_grains_; }
+  // A restart of moving grains, before resume(): the fluid's mass at the
+  // start and the grains' state as a checkpoint saved them (RigidGrains::state).
+  void restore_grains(double fluid_mass, const std::vector<double>& state);
 
   // The fluid's force on the solid at the current state, summed over all
   // processes: each grain's force and torque about its centre, the plane
@@ -230,6 +233,7 @@ class Simulation {
   void grains_correct_stage();   // "grains correct": the whole step, their particles placed
   void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity
   void place_grains();           // the grains' particles where the grains are, and the solid map with them
+  void follow_grains();          // the scene's grain centres and the solid map where the grains are
   double local_fluid_mass() const;  // of this process's fluid particles
   // Stops the run if the step left a particle count change or an unhealthy
   // particle; known_healthy: the corrector found none here (only the count

@@ -72,6 +72,17 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
                 static_cast<unsigned long long>(row_checksum(grains.data(), static_cast<long long>(grains.size()),
                                                              1, 0)));
   entries.emplace_back("Grains", std::to_string(scene.grains.size()) + " grains, checksum " + checksum);
+  // Grains that move: the centres above are where they started (the
+  // checkpoint holds where they are); how they move is physics.
+  if (scene.moving_grains()) {
+    const ContactMaterial& c = scene.grain_contact;
+    entries.emplace_back("Grains/Motion", scene.grain_motion == GrainMotion::Free ? "free" : "rotating");
+    entries.emplace_back("Grains/Density", number(scene.grain_density));
+    entries.emplace_back("Grains/Gravity", list(scene.gravity.data(), D));
+    const double contact[] = {c.young_modulus, c.poisson_ratio, c.restitution, c.friction, c.cutoff_spacings};
+    entries.emplace_back("Grains/Contact (Young Modulus, Poisson Ratio, Restitution, Friction, Cutoff Spacings)",
+                         list(contact, 5));
+  }
   // The image by its shape, voxel size, solid values and a checksum of its
   // voxels (after Image/Mirror): another image, or the same read otherwise,
   // is another solid.

@@ -35,8 +35,9 @@ namespace poresph {
 // The layout of checkpoint.h5; a checkpoint of another layout is refused
 // with a message, not read wrongly. 4: the stages' records hold their
 // neighbour-list builds and superficial velocity, and the run state the
-// steady-state verdict, the channel profile's samples and the builds.
-constexpr const char* kCheckpointFormat = "poresph checkpoint 6";
+// steady-state verdict, the channel profile's samples and the builds. 7:
+// moving grains' state (run/moving_grains) and grains_history.csv's rows.
+constexpr const char* kCheckpointFormat = "poresph checkpoint 7";
 
 // What defines the physics of a run, as "name = value" lines: a checkpoint
 // continues only a scene with the same lines. time_step and sound_speed are
@@ -169,6 +170,13 @@ void write_checkpoint(const Sim& sim, const std::string& path, const RunState& s
         write_checked(file, c, view.label(), values, n, std::decay_t<decltype(view)>::rank == 2 ? Dim : 0);
       });
     });
+    // Moving grains: the fluid's mass their support was made from, then their state.
+    if (sim.rigid_grains().moving()) {
+      std::vector<double> grains{sim.rigid_grains().fluid_mass()};
+      const auto bodies = sim.rigid_grains().state();
+      grains.insert(grains.end(), bodies.begin(), bodies.end());
+      write_whole(file, c, "run/moving_grains", grains);
+    }
     if (rates_valid)
       with_owned_rows(sim.positions_at_build(), n,
                       [&](const double* values) { write_checked(file, c, "x_at_build", values, n, Dim); });
@@ -230,6 +238,13 @@ void load_checkpoint(Sim& sim, const std::string& path, const CheckpointInfo& in
                                   "': it was written by a scene without walls, grains or shifting that this one has");
     load_rows(view, read_checked<Value>(file, c, view.label(), first, count));
   });
+  if (sim.scene().moving_grains()) {
+    if (!file.has("run/moving_grains"))
+      throw std::invalid_argument(path + " holds no moving grains' state: it was written by a scene whose grains "
+                                  "hold still, or by a PoreSPH that did not keep them");
+    const auto grains = read_whole<double>(file, c, "run/moving_grains");
+    sim.restore_grains(grains.at(0), std::vector<double>(grains.begin() + 1, grains.end()));
+  }
   typename Sim::ParticleSet::Vector x_at_build;
   if (same_layout && info.rates_valid) {
     x_at_build = decltype(x_at_build)("checkpoint_x_at_build", count);

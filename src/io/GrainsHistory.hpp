@@ -3,9 +3,9 @@
 // one row a grain every check interval and at the end: time, centre,
 // velocity, spin (angular velocity; about z in 2D), the angle turned (2D),
 // the fluid's force and torque on it, the contacts' force and torque on it
-// and their count. Every write is checked
-// (io/HistoryFile.hpp); a restart of moving grains is refused, so a run
-// always starts the file afresh.
+// and their count. Every write is checked (io/HistoryFile.hpp); a restart
+// in the run's own directory keeps the rows its checkpoint counts and goes
+// on from there.
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -22,7 +22,10 @@ namespace poresph {
 template <int Dim, class Sim>
 class GrainsHistory : public Observer<Sim> {
  public:
-  GrainsHistory(const Sim& sim, const std::string& path, long long interval) : interval_(interval) {
+  // continuing: a restart in the run's own directory, which keeps the
+  // first `rows_before` rows (the ones its checkpoint counts).
+  GrainsHistory(const Sim& sim, const std::string& path, long long interval, bool continuing, long long rows_before)
+      : interval_(interval), rows_(rows_before), scheduled_rows_(rows_before) {
     if (sim.communicator().rank() != 0) return;
     constexpr int kSpin = spin_components<Dim>();
     std::string header = "step,time,grain";
@@ -40,20 +43,26 @@ class GrainsHistory : public Observer<Sim> {
     else
       for (int k = 0; k < kSpin; ++k) header += std::string(",contact_torque_") + "xyz"[k];
     header += ",contacts";
-    file_.open(path, header + "\n", false, 0);
-    write(sim);
+    file_.open(path, header + "\n", continuing, rows_before);
+    if (!continuing) write(sim);
   }
 
   static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
     if (!s.sim.rigid_grains().moving()) return nullptr;
-    return std::make_unique<GrainsHistory>(s.sim, s.output_dir + "/grains_history" + s.suffix + ".csv",
-                                           s.check_interval > 0 ? s.check_interval : 100);
+    return std::make_unique<GrainsHistory>(
+        s.sim, s.output_dir + "/grains_history" + s.suffix + ".csv", s.check_interval > 0 ? s.check_interval : 100,
+        s.continuing, s.continuing ? static_cast<long long>(s.restored->grains_history_rows) : 0);
   }
   bool writes() const override { return true; }
 
   void after_step(Sim& sim) override {
-    if (sim.steps() % interval_ == 0) write(sim);
+    if (sim.steps() % interval_ != 0) return;
+    write(sim);
+    scheduled_rows_ = rows_;
   }
+  // As of the last scheduled row: an end-of-run row is not one a run
+  // continued past that end writes.
+  void save(RunState& state) const override { state.grains_history_rows = static_cast<double>(scheduled_rows_); }
   void at_end(Sim& sim) override {
     if (sim.steps() % interval_ != 0) write(sim);
   }
@@ -84,11 +93,13 @@ class GrainsHistory : public Observer<Sim> {
       for (int k = 0; k < kSpin; ++k) put(b.contact_torque[k]);
       *out << "," << b.contacts;
       *out << "\n";
+      ++rows_;
     }
     file_.check();
   }
 
   long long interval_;
+  long long rows_, scheduled_rows_;  // data rows written, and as of the last scheduled write
   HistoryFile file_;
 };
 

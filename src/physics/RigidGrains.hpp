@@ -23,7 +23,9 @@
 
 #include <array>
 #include <cmath>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/Math.hpp"
@@ -84,7 +86,7 @@ class RigidGrains {
   // (fluid_body_force()). Free grains touch with Young's modulus
   // contact_modulus (DerivedParameters).
   RigidGrains(const SceneConfig& scene, double fluid_mass, double contact_modulus)
-      : motion_(scene.grain_motion), cell_(scene.cell_size), periodic_(scene.periodic) {
+      : motion_(scene.grain_motion), cell_(scene.cell_size), periodic_(scene.periodic), fluid_mass_(fluid_mass) {
     if (motion_ == GrainMotion::Fixed) return;
     if (motion_ == GrainMotion::Free && contact_modulus > 0)
       contact_ = ContactLaw<Dim>(contact_modulus, scene.grain_contact, scene.particle_spacing);
@@ -130,6 +132,26 @@ class RigidGrains {
   }
 
   bool moving() const { return motion_ != GrainMotion::Fixed && !bodies_.empty(); }
+  double fluid_mass() const { return fluid_mass_; }
+
+  // The grains' state as numbers, for a checkpoint: what a run needs to go
+  // on bit for bit (restore()).
+  std::vector<double> state() const {
+    std::vector<double> values;
+    for (const Body& b : bodies_) for_each_number(b, [&](double v) { values.push_back(v); });
+    return values;
+  }
+  // The state a checkpoint saved; throws if it holds another number of grains.
+  void restore(const std::vector<double>& values) {
+    size_t k = 0;
+    for (Body& b : bodies_) for_each_number(b, [&](double& v) { v = k < values.size() ? values[k] : 0.0; ++k; });
+    if (k != values.size())
+      throw std::invalid_argument("the checkpoint holds the state of another set of moving grains (" +
+                                  std::to_string(values.size()) + " numbers for " + std::to_string(bodies_.size()) +
+                                  " grains)");
+    begin_ = bodies_;
+    upload({});
+  }
   const std::vector<Body>& bodies() const { return bodies_; }
   // What the fluid feels per unit mass: the body force, gravity and the support.
   const Vector& fluid_body_force() const { return fluid_body_force_; }
@@ -278,6 +300,22 @@ class RigidGrains {
  private:
   using View = Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>;
 
+  // f(number) for every number of a body's state that changes in a run.
+  template <class B, class F>
+  static void for_each_number(B& b, F&& f) {
+    for (auto* part : {&b.centre, &b.velocity, &b.acceleration, &b.fluid_force, &b.contact_force})
+      for (auto& v : *part) f(v);
+    for (auto* part : {&b.spin, &b.spin_rate, &b.turned, &b.fluid_torque, &b.contact_torque})
+      for (auto& v : *part) f(v);
+    if constexpr (std::is_const_v<B>) {
+      f(static_cast<double>(b.contacts));
+    } else {
+      double contacts = b.contacts;
+      f(contacts);
+      b.contacts = static_cast<int>(contacts);
+    }
+  }
+
   // Each grain's rotation over half the step (predictor: at its start
   // spin; corrector: over the whole step at the mean of both spins).
   std::vector<std::array<double, Dim * Dim>> half_turns(double dt, bool whole) const {
@@ -315,6 +353,7 @@ class RigidGrains {
   std::array<bool, 3> periodic_{};
   ContactLaw<Dim> contact_;  // inactive unless the grains are free
   SceneConfig frame_;        // the cell and its walls, for the contacts
+  double fluid_mass_ = 0;     // over all processes, at the start
   std::vector<Body> bodies_, begin_;
   Vector fluid_body_force_{}, gravity_{}, volume_force_{};
   View centre_start_, centre_, velocity_, spin_, turn_;
