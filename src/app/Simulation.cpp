@@ -1,6 +1,7 @@
 #include "app/Simulation.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -347,6 +348,12 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::refresh_neighbourhood_only() {
+  if (next_decomposition_) {  // a rebalance: the particles go to their new owners now
+    const double skin = scene_.neighbour_skin * derived_.smoothing_length;
+    neighbourhood_ =
+        Neighbourhood<Dim, ExecSpace>(comm_, *next_decomposition_, scene_.cell_size, kernel_.cutoff, skin, fixed_);
+    next_decomposition_.reset();
+  }
   // Fixed particles keep their first list; moving ones until some has gone half the skin.
   const bool rebuild = !neighbourhood_.built() || (!fixed_ && neighbourhood_.stale(space_, particles_));
   update_pressure(space_, particles_, derived_.sound_speed * derived_.sound_speed, reference_pressure_,
@@ -440,30 +447,79 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::make_step_stages() {
   using S = Simulation;
   const bool grains_move = scene_.moving_grains();
-  step_stages_ = {{"poresph::step::predict", &S::predict_stage}};
+  step_stages_ = {{"poresph::step::predict", &S::predict_stage, true}};
   if (grains_move) step_stages_.push_back({"poresph::step::grains_predict", &S::grains_predict_stage});
   step_stages_.push_back({"poresph::step::neighbourhood", &S::neighbourhood_stage});
   if (extrapolate_walls_) step_stages_.push_back({"poresph::step::wall_pressure", &S::wall_pressure_stage});
-  step_stages_.push_back({"poresph::step::pair_rates", &S::pair_rates_stage});
-  step_stages_.push_back({"poresph::step::finish", &S::finish_stage});
+  step_stages_.push_back({"poresph::step::pair_rates", &S::pair_rates_stage, true});
+  step_stages_.push_back({"poresph::step::finish", &S::finish_stage, true});
   if (grains_move) step_stages_.push_back({"poresph::step::grain_loads", &S::grain_loads_stage});
-  step_stages_.push_back({"poresph::step::correct", &S::correct_stage});
+  step_stages_.push_back({"poresph::step::correct", &S::correct_stage, true});
   if (grains_move) step_stages_.push_back({"poresph::step::grains_correct", &S::grains_correct_stage});
   if (particles_.has_shifting || (!fixed_ && !solid_map_.empty()))
     step_stages_.push_back({"poresph::step::constraints", &S::constraints_stage});
   step_stages_.push_back({"poresph::step::check", &S::check_stage});
   if (!fixed_ && scene_.resummation_interval > 0)
     step_stages_.push_back({"poresph::step::density_resummation", &S::resummation_stage});
+  measure_balance_ = !fixed_ && comm_.size() > 1;
+  if (measure_balance_) {
+    step_stages_.push_back({"poresph::step::balance", &S::balance_stage});
+    balance_start_ = std::chrono::steady_clock::now();
+  }
 }
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::step() {
   for (const StepStage& stage : step_stages_) {
     Kokkos::Profiling::pushRegion(stage.name);
-    (this->*stage.run)();
+    if (measure_balance_ && stage.computes) {
+      const auto start = std::chrono::steady_clock::now();
+      (this->*stage.run)();
+      space_.fence();
+      compute_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    } else {
+      (this->*stage.run)();
+    }
     Kokkos::Profiling::popRegion();
   }
   space_.fence();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::balance_stage() {
+  if (++balance_steps_ < scene_.rebalance_interval) return;
+  const auto now = std::chrono::steady_clock::now();
+  const double steps = balance_steps_;
+  BalanceRecord& b = balance_;
+  b.step = steps_;
+  b.seconds_per_step = comm_.max(std::chrono::duration<double>(now - balance_start_).count()) / steps;
+  b.compute_max = comm_.max(compute_seconds_) / steps;
+  b.compute_mean = comm_.sum(compute_seconds_) / comm_.size() / steps;
+  b.imbalance = b.compute_mean > 0 ? b.compute_max / b.compute_mean : 1.0;
+  b.particles_min = -comm_.max(-particles_.owned);
+  b.particles_max = comm_.max(particles_.owned);
+  b.rebalanced = scene_.rebalance_threshold > 0 && b.imbalance > scene_.rebalance_threshold;
+  // By measured time, not counts: a process on a shared core, or with more
+  // work a particle, weighs its particles more and is given fewer.
+  if (b.rebalanced) rebalance(compute_seconds_ / std::max(1, particles_.owned));
+  compute_seconds_ = 0;
+  balance_steps_ = 0;
+  balance_start_ = std::chrono::steady_clock::now();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::rebalance(double weight) {
+  const int n = particles_.owned;
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
+  const auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.id);
+  std::vector<double> coordinates(static_cast<size_t>(n) * Dim), weights(n, weight);
+  std::vector<long long> ids(n);
+  for (int i = 0; i < n; ++i) {
+    for (int d = 0; d < Dim; ++d) coordinates[static_cast<size_t>(i) * Dim + d] = x(i, d);
+    ids[i] = id(i);
+  }
+  next_decomposition_ = rcb_decomposition_of_particles<Dim>(scene_, coordinates, ids, weights, comm_);
+  ++balance_.rebalances;
 }
 
 template <int Dim, class ExecSpace>

@@ -5,6 +5,8 @@
 #include <Kokkos_Core.hpp>
 
 #include <array>
+#include <chrono>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -111,6 +113,7 @@ class Simulation {
   struct StepStage {
     std::string name;  // also the Kokkos profiling region around it
     void (Simulation::*run)();
+    bool computes = false;  // local work no other process waits on inside it: timed for the load balance
   };
   const std::vector<StepStage>& step_stages() const { return step_stages_; }
 
@@ -123,6 +126,27 @@ class Simulation {
   const ParticleSet& particles() const { return particles_; }
 
   const Decomposition<Dim>& decomposition() const { return neighbourhood_.decomposition(); }
+
+  // The load balance of moving particles on 2 or more processes
+  // (Parallel/Rebalance Threshold): every Rebalance Interval steps each
+  // process's time in the computing stages is compared, and past the
+  // threshold the cell is divided anew. What the last measurement found:
+  struct BalanceRecord {
+    long long step = -1;                      // of the last measurement (-1: none yet)
+    double seconds_per_step = 0;              // wall time a step over the interval
+    double compute_max = 0, compute_mean = 0;  // seconds a step in the computing stages, slowest and mean process
+    double imbalance = 1;                     // compute_max / compute_mean
+    bool rebalanced = false;                  // the cell was divided anew after it
+    long long particles_min = 0, particles_max = 0;  // owned particles per process at the measurement
+    long long rebalances = 0;                 // in the run so far
+  };
+  bool measures_balance() const { return measure_balance_; }
+  const BalanceRecord& balance() const { return balance_; }
+  // Divides the cell anew by RCB with each owned particle weighing
+  // `weight` (this process's measured time per particle); the particles
+  // move to their new owners at the next step's neighbourhood refresh
+  // (until then the lists, ghosts and checkpoint boxes are the old ones).
+  void rebalance(double weight);
   const typename ParticleSet::Vector& positions_at_build() const {
     return fixed_ ? particles_.x : neighbourhood_.positions_at_build();  // fixed particles stay where it was built
   }
@@ -234,6 +258,7 @@ class Simulation {
   void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity
   void place_grains();           // the grains' particles where the grains are, and the solid map with them
   void follow_grains();          // the scene's grain centres and the solid map where the grains are
+  void balance_stage();          // measures the balance; divides the cell anew past the threshold
   double local_fluid_mass() const;  // of this process's fluid particles
   // Stops the run if the step left a particle count change or an unhealthy
   // particle; known_healthy: the corrector found none here (only the count
@@ -257,6 +282,12 @@ class Simulation {
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;
   RigidGrains<Dim, ExecSpace> rigid_grains_;  // Grains/Motion = free or rotating
+  bool measure_balance_ = false;  // moving particles on 2 or more processes
+  BalanceRecord balance_;
+  std::optional<Decomposition<Dim>> next_decomposition_;  // from rebalance(), taken at the next refresh
+  double compute_seconds_ = 0;    // in the computing stages since the last measurement
+  int balance_steps_ = 0;         // steps since the last measurement
+  std::chrono::steady_clock::time_point balance_start_;
   long long surface_corrections_ = 0;  // on this process
   double deepest_correction_ = 0.0;
   FluidProperties fluid_;

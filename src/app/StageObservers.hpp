@@ -9,6 +9,7 @@
 #include "diagnostics/HealthWatch.hpp"
 #include "diagnostics/PermeabilityProbe.hpp"
 #include "diagnostics/StageSetting.hpp"
+#include "io/BalanceHistory.hpp"
 #include "io/Checkpoints.hpp"
 #include "io/FieldFrames.hpp"
 #include "io/GrainsHistory.hpp"
@@ -22,7 +23,7 @@ const std::vector<ObserverMaker<Sim>>& stage_observers() {
   static const std::vector<ObserverMaker<Sim>> makers = {
       &ChannelProbe<Sim>::make,  &HealthWatch<Sim>::make, &PermeabilityProbe<Dim, Sim>::make,
       &FieldFrames<Dim, Sim>::make, &Checkpoints<Sim>::make, &ProgressObserver<Sim>::make,
-      &SurfaceForcesFile<Dim, Sim>::make, &GrainsHistory<Dim, Sim>::make,
+      &SurfaceForcesFile<Dim, Sim>::make, &GrainsHistory<Dim, Sim>::make, &BalanceHistory<Sim>::make,
   };
   return makers;
 }

@@ -364,6 +364,16 @@ RCP<ParameterList> make_valid_parameters() {
           reals_in(0.0, kHuge));
     s.set("Y Cuts", Array<double>(), "As X Cuts, along y.", reals_in(0.0, kHuge));
     s.set("Z Cuts", Array<double>(), "As X Cuts, along z.", reals_in(0.0, kHuge));
+    s.set("Rebalance Threshold", 0.0,
+          "Moving particles on 2 or more processes, 'rcb': every Rebalance Interval steps the time each process "
+          "spent computing (its pair loop and integration, waiting excluded) is compared; when the slowest "
+          "process's time over the mean passes this, Zoltan2 divides the cell anew with each particle weighted "
+          "by its process's measured time per particle, and particles move to their new owners. So a process "
+          "that is slower (a shared core) gets less. 0: never; otherwise at least 1. balance_history.csv "
+          "records the time per step and the imbalance either way.",
+          real_in(0.0, kHuge));
+    s.set("Rebalance Interval", 100, "Steps between the measurements of the balance (Rebalance Threshold).",
+          int_in(1, std::numeric_limits<int>::max()));
   }
   {
     auto& s = list->sublist("Output", false, "What a run writes besides summary.json.");

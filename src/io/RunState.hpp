@@ -28,10 +28,11 @@ struct RunState {
   double neighbour_rebuilds = 0;
   std::vector<double> frame_steps, frame_times;     // field files so far
   double field_interval = 0, next_field_time = INFINITY;  // Output/Field Interval, and when the next file is due
-  // Data rows of permeability_history*.csv, profiles.csv and grains_history*.csv that belong to
-  // the run up to the checkpoint: a restart keeps these and drops what a
-  // killed run wrote after it, or an end-of-run row it continues past.
-  double history_rows = 0, profile_rows = 0, grains_history_rows = 0;
+  // Data rows of permeability_history*.csv, profiles.csv,
+  // grains_history*.csv and balance_history*.csv that belong to the run up
+  // to the checkpoint: a restart keeps these and drops what a killed run
+  // wrote after it, or an end-of-run row it continues past.
+  double history_rows = 0, profile_rows = 0, grains_history_rows = 0, balance_history_rows = 0;
   double max_density_variation = 0, max_density_drift = 0;
   double particles_inside_grains = 0, max_grain_penetration = 0;
   double grain_surface_corrections = 0, max_corrected_depth = 0;
@@ -56,6 +57,7 @@ struct RunState {
     f("history_rows", state.history_rows);
     f("profile_rows", state.profile_rows);
     f("grains_history_rows", state.grains_history_rows);
+    f("balance_history_rows", state.balance_history_rows);
     f("max_density_variation", state.max_density_variation);
     f("max_density_drift", state.max_density_drift);
     f("particles_inside_grains", state.particles_inside_grains);

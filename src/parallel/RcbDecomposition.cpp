@@ -32,10 +32,11 @@ std::string cuts_per_level(int parts) {
 
 // The boxes of `parts` parts of the particles-to-be (coordinates and ids
 // of this process's share), by Zoltan2 on the processes of `comm`.
+// With `weights` (one a point), the parts hold equal sums of them.
 template <int Dim>
 std::vector<Box<Dim>> rcb_boxes(const std::array<double, Dim>& cell, const std::array<bool, Dim>& periodic,
                                 std::vector<double>& coordinates, std::vector<long long>& ids,
-                                const Communicator& comm, int parts) {
+                                const Communicator& comm, int parts, const std::vector<double>* point_weights = nullptr) {
   const int n = static_cast<int>(ids.size());
 
   using Types = Zoltan2::BasicUserTypes<double, int, long long>;
@@ -45,6 +46,7 @@ std::vector<Box<Dim>> rcb_boxes(const std::array<double, Dim>& cell, const std::
   for (int d = 0; d < Dim; ++d) entries.push_back(coordinates.data() + d), strides.push_back(Dim);
   std::vector<const double*> weights;
   std::vector<int> weight_strides;
+  if (point_weights) weights.push_back(point_weights->data()), weight_strides.push_back(1);
   Adapter adapter(n, ids.data(), entries, strides, weights, weight_strides);
 
   Teuchos::ParameterList parameters("zoltan2");
@@ -130,7 +132,26 @@ Decomposition<Dim> rcb_decomposition(const SceneConfig& scene, const Communicato
   return *decomposition;
 }
 
+template <int Dim>
+Decomposition<Dim> rcb_decomposition_of_particles(const SceneConfig& scene, std::vector<double>& coordinates,
+                                                  std::vector<long long>& ids, const std::vector<double>& weights,
+                                                  const Communicator& comm) {
+  std::array<double, Dim> cell{};
+  std::array<bool, Dim> periodic{};
+  for (int d = 0; d < Dim; ++d) cell[d] = scene.cell_size[d], periodic[d] = scene.periodic[d];
+  Decomposition<Dim> decomposition(rcb_boxes<Dim>(cell, periodic, coordinates, ids, comm, comm.size(), &weights), cell,
+                                   periodic);
+  decomposition.check(comm.size());
+  return decomposition;
+}
+
 template Decomposition<2> rcb_decomposition<2>(const SceneConfig&, const Communicator&);
 template Decomposition<3> rcb_decomposition<3>(const SceneConfig&, const Communicator&);
+template Decomposition<2> rcb_decomposition_of_particles<2>(const SceneConfig&, std::vector<double>&,
+                                                            std::vector<long long>&, const std::vector<double>&,
+                                                            const Communicator&);
+template Decomposition<3> rcb_decomposition_of_particles<3>(const SceneConfig&, std::vector<double>&,
+                                                            std::vector<long long>&, const std::vector<double>&,
+                                                            const Communicator&);
 
 }  // namespace poresph

@@ -337,6 +337,16 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   if (!scene.grid_decomposition && (!scene.process_grid.empty() || !scene.cuts[0].empty() || !scene.cuts[1].empty() ||
                                     !scene.cuts[2].empty()))
     fail("Parallel/Process Grid and the cuts apply to Parallel/Decomposition = grid");
+  scene.rebalance_threshold = parallel.get<double>("Rebalance Threshold");
+  scene.rebalance_interval = parallel.get<int>("Rebalance Interval");
+  if (scene.rebalance_threshold > 0 && scene.rebalance_threshold < 1)
+    fail("Parallel/Rebalance Threshold = " + std::to_string(scene.rebalance_threshold) +
+         ": the slowest process's time over the mean is at least 1; give a threshold of at least 1 (or 0: never)");
+  if (scene.rebalance_threshold > 0 && scene.grid_decomposition)
+    fail("Parallel/Rebalance Threshold divides the cell anew by Zoltan2's RCB: not with Parallel/Decomposition = grid");
+  if (scene.rebalance_threshold > 0 && scene.particle_motion == ParticleMotion::Fixed)
+    fail("Parallel/Rebalance Threshold follows a load that moves: fixed particles (Discretization/Particle Motion) "
+         "keep the load they start with, which the first division already balances");
 
   read_scene_image(list, scene_directory, scene);
   const auto& grains = list.sublist("Grains");

@@ -146,6 +146,8 @@ struct SceneConfig {
   // cell's shape), with optional cuts per direction (the paper's adjusted
   // sub-cell boundaries; empty: equal parts).
   bool grid_decomposition = false;  // the paper's process grid instead of Zoltan2's RCB
+  double rebalance_threshold = 0;   // slowest over mean compute time that divides the cell anew; 0: never
+  int rebalance_interval = 100;     // steps between measurements of the balance
   std::vector<int> process_grid;
   std::array<std::vector<double>, 3> cuts;
   bool write_final_particles = false;  // particles.csv of the final state

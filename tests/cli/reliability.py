@@ -267,6 +267,13 @@ def class_3_grains():
         ("a contact that restitutes nothing", [grain, "Grains/Contact/Restitution=0"], r"Restitution"),
         ("a contact that restitutes more than it got", [grain, "Grains/Contact/Restitution=1.5"], r"Restitution"),
         ("a negative Young's modulus", [grain, "Grains/Contact/Young Modulus=-1"], r"Young Modulus"),
+        ("a rebalance threshold under 1", [lagrangian, "Parallel/Rebalance Threshold=0.5"],
+         r"Parallel/Rebalance Threshold = 0.5.*: the slowest process's time over the mean is at least 1"),
+        ("a rebalance of the process grid", [lagrangian, "Parallel/Rebalance Threshold=1.2",
+                                             "Parallel/Decomposition=grid"],
+         r"divides the cell anew by Zoltan2's RCB: not with Parallel/Decomposition = grid"),
+        ("a rebalance of fixed particles", ["Parallel/Rebalance Threshold=1.2"],
+         r"Parallel/Rebalance Threshold follows a load that moves: fixed particles"),
     ]
     for name, settings, message in motion_cases:
         case(name + " is refused", [TINY, "--output", base] + sets(*settings), 2, message, absent(base))
