@@ -12,6 +12,7 @@
 #include "Scenes.hpp"
 #include "app/Simulation.hpp"
 #include "geometry/Grains.hpp"
+#include "physics/WallPressure.hpp"
 
 namespace poresph {
 namespace {
@@ -64,6 +65,34 @@ TEST(RigidGrains, FluidAndGrainsConserveMomentum) {
   for (int d = 0; d < 2; ++d) EXPECT_LT(std::abs(after[d] - before[d]), 1e-13 * scale) << "direction " << d;
   std::printf("momentum change %.2e, %.2e of sum |m v| %.3e; the grains' %.3e\n", after[0] - before[0],
               after[1] - before[1], scale, grain_momentum);
+}
+
+// The acceleration of a point of a turning, accelerating grain, which the
+// wall pressure takes: A + alpha x r + omega x (omega x r).
+TEST(RigidGrains, WallAccelerationOfAPointOnATurningGrain) {
+  WallAcceleration<2, Kokkos::HostSpace> two;
+  two.acceleration = decltype(two.acceleration)("A", 1, 2);
+  two.spin = decltype(two.spin)("omega", 1, 1);
+  two.spin_rate = decltype(two.spin_rate)("alpha", 1, 1);
+  two.acceleration(0, 0) = 0.5, two.acceleration(0, 1) = -1.0;
+  two.spin(0, 0) = 2.0, two.spin_rate(0, 0) = 3.0;
+  Vec<2> r;
+  r[0] = 1.0, r[1] = 0.0;
+  const Vec<2> a = two.of(0, r);
+  EXPECT_DOUBLE_EQ(a[0], 0.5 - 4.0);      // centripetal -omega^2 r
+  EXPECT_DOUBLE_EQ(a[1], -1.0 + 3.0);     // alpha r along the turn
+  WallAcceleration<3, Kokkos::HostSpace> three;
+  three.acceleration = decltype(three.acceleration)("A", 1, 3);
+  three.spin = decltype(three.spin)("omega", 1, 3);
+  three.spin_rate = decltype(three.spin_rate)("alpha", 1, 3);
+  three.spin(0, 2) = 2.0;  // about z
+  Vec<3> q;
+  q[0] = 0.0, q[1] = 1.5, q[2] = 7.0;  // the part along the axis feels nothing
+  const Vec<3> b = three.of(0, q);
+  EXPECT_DOUBLE_EQ(b[0], 0.0);
+  EXPECT_DOUBLE_EQ(b[1], -4.0 * 1.5);
+  EXPECT_DOUBLE_EQ(b[2], 0.0);
+  EXPECT_FALSE((WallAcceleration<3, Kokkos::HostSpace>{}.active()));
 }
 
 // A grain's boundary particles keep their places on it as it moves and

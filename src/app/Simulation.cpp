@@ -335,7 +335,7 @@ void Simulation<Dim, ExecSpace>::update_wall_pressure() {
   if (!extrapolate_walls_) return;
   extrapolate_wall_pressure(space_, particles_, wall_neighbours_, kernel_, body_force_,
                             derived_.sound_speed * derived_.sound_speed, scene_.density, reference_pressure_,
-                            volume_density_);
+                            volume_density_, rigid_grains_.wall_acceleration());
   space_.fence();
   neighbourhood_.update_ghosts(particles_);
 }
@@ -447,14 +447,14 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::make_step_stages() {
   using S = Simulation;
   const bool grains_move = scene_.moving_grains();
-  step_stages_ = {{"poresph::step::predict", &S::predict_stage, true}};
+  step_stages_ = {{"poresph::step::predict", &S::predict_stage}};
   if (grains_move) step_stages_.push_back({"poresph::step::grains_predict", &S::grains_predict_stage});
   step_stages_.push_back({"poresph::step::neighbourhood", &S::neighbourhood_stage});
   if (extrapolate_walls_) step_stages_.push_back({"poresph::step::wall_pressure", &S::wall_pressure_stage});
-  step_stages_.push_back({"poresph::step::pair_rates", &S::pair_rates_stage, true});
-  step_stages_.push_back({"poresph::step::finish", &S::finish_stage, true});
+  step_stages_.push_back({"poresph::step::pair_rates", &S::pair_rates_stage});
+  step_stages_.push_back({"poresph::step::finish", &S::finish_stage});
   if (grains_move) step_stages_.push_back({"poresph::step::grain_loads", &S::grain_loads_stage});
-  step_stages_.push_back({"poresph::step::correct", &S::correct_stage, true});
+  step_stages_.push_back({"poresph::step::correct", &S::correct_stage});
   if (grains_move) step_stages_.push_back({"poresph::step::grains_correct", &S::grains_correct_stage});
   if (particles_.has_shifting || (!fixed_ && !solid_map_.empty()))
     step_stages_.push_back({"poresph::step::constraints", &S::constraints_stage});
@@ -470,19 +470,19 @@ void Simulation<Dim, ExecSpace>::make_step_stages() {
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::step() {
+  // The work this process did in the step: its wall time less the time in
+  // collective operations, where it waits for the others.
+  const auto start = std::chrono::steady_clock::now();
+  const double waited = communication_seconds();
   for (const StepStage& stage : step_stages_) {
     Kokkos::Profiling::pushRegion(stage.name);
-    if (measure_balance_ && stage.computes) {
-      const auto start = std::chrono::steady_clock::now();
-      (this->*stage.run)();
-      space_.fence();
-      compute_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    } else {
-      (this->*stage.run)();
-    }
+    (this->*stage.run)();
     Kokkos::Profiling::popRegion();
   }
   space_.fence();
+  if (measure_balance_)
+    compute_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
+                        (communication_seconds() - waited);
 }
 
 template <int Dim, class ExecSpace>

@@ -113,7 +113,6 @@ class Simulation {
   struct StepStage {
     std::string name;  // also the Kokkos profiling region around it
     void (Simulation::*run)();
-    bool computes = false;  // local work no other process waits on inside it: timed for the load balance
   };
   const std::vector<StepStage>& step_stages() const { return step_stages_; }
 
@@ -129,12 +128,13 @@ class Simulation {
 
   // The load balance of moving particles on 2 or more processes
   // (Parallel/Rebalance Threshold): every Rebalance Interval steps each
-  // process's time in the computing stages is compared, and past the
-  // threshold the cell is divided anew. What the last measurement found:
+  // process's working time (its steps' wall time less its time in
+  // collective operations) is compared, and past the threshold the cell is
+  // divided anew. What the last measurement found:
   struct BalanceRecord {
     long long step = -1;                      // of the last measurement (-1: none yet)
     double seconds_per_step = 0;              // wall time a step over the interval
-    double compute_max = 0, compute_mean = 0;  // seconds a step in the computing stages, slowest and mean process
+    double compute_max = 0, compute_mean = 0;  // working seconds a step, slowest and mean process
     double imbalance = 1;                     // compute_max / compute_mean
     bool rebalanced = false;                  // the cell was divided anew after it
     long long particles_min = 0, particles_max = 0;  // owned particles per process at the measurement
@@ -285,7 +285,7 @@ class Simulation {
   bool measure_balance_ = false;  // moving particles on 2 or more processes
   BalanceRecord balance_;
   std::optional<Decomposition<Dim>> next_decomposition_;  // from rebalance(), taken at the next refresh
-  double compute_seconds_ = 0;    // in the computing stages since the last measurement
+  double compute_seconds_ = 0;    // working (not waiting) since the last measurement
   int balance_steps_ = 0;         // steps since the last measurement
   std::chrono::steady_clock::time_point balance_start_;
   long long surface_corrections_ = 0;  // on this process

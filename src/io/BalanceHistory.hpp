@@ -2,8 +2,9 @@
 // balance_history.csv: the load balance of moving particles on 2 or more
 // processes (Simulation::balance, Parallel/Rebalance Threshold), one row
 // every Parallel/Rebalance Interval steps: the wall time a step, each
-// process's time a step in the computing stages (the slowest and the
-// mean), their ratio (the imbalance), whether the cell was then divided
+// process's working time a step (its wall time less its time in collective
+// operations; the slowest and the mean), their ratio (the imbalance),
+// whether the cell was then divided
 // anew, and the fewest and most particles a process owned. Written whether
 // or not the run rebalances, so that runs with and without compare.
 #include <cstdio>

@@ -366,7 +366,7 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Z Cuts", Array<double>(), "As X Cuts, along z.", reals_in(0.0, kHuge));
     s.set("Rebalance Threshold", 0.0,
           "Moving particles on 2 or more processes, 'rcb': every Rebalance Interval steps the time each process "
-          "spent computing (its pair loop and integration, waiting excluded) is compared; when the slowest "
+          "spent working (its steps' wall time less its time in collective operations) is compared; when the slowest "
           "process's time over the mean passes this, Zoltan2 divides the cell anew with each particle weighted "
           "by its process's measured time per particle, and particles move to their new owners. So a process "
           "that is slower (a shared core) gets less. 0: never; otherwise at least 1. balance_history.csv "

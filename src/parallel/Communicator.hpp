@@ -3,12 +3,35 @@
 // itself. One process, MPI_COMM_SELF or any communicator: the same code.
 #include <mpi.h>
 
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <type_traits>
 #include <vector>
 
 namespace poresph {
+
+// Wall time this process has spent inside collective operations (where it
+// waits for the others, and the exchange itself): a step's wall time less
+// this is the work the process did, which the load balance compares
+// (app/Simulation.hpp). One clock per process.
+inline double& communication_seconds() {
+  static double seconds = 0;
+  return seconds;
+}
+// Adds its lifetime to communication_seconds().
+class CommunicationTimer {
+ public:
+  CommunicationTimer() : start_(std::chrono::steady_clock::now()) {}
+  ~CommunicationTimer() {
+    communication_seconds() += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  CommunicationTimer(const CommunicationTimer&) = delete;
+  CommunicationTimer& operator=(const CommunicationTimer&) = delete;
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+};
 
 class Communicator {
  public:
@@ -24,37 +47,46 @@ class Communicator {
   double max(double x) const { return reduce(x, MPI_MAX); }
   long long sum(long long x) const {
     long long r = 0;
+    const CommunicationTimer timer;
     MPI_Allreduce(&x, &r, 1, MPI_LONG_LONG, MPI_SUM, comm_);
     return r;
   }
   int sum(int x) const { return static_cast<int>(sum(static_cast<long long>(x))); }
   int max(int x) const {
     int r = 0;
+    const CommunicationTimer timer;
     MPI_Allreduce(&x, &r, 1, MPI_INT, MPI_MAX, comm_);
     return r;
   }
   bool any(bool x) const { return max(x ? 1 : 0) != 0; }
   long long min(long long x) const {
     long long r = 0;
+    const CommunicationTimer timer;
     MPI_Allreduce(&x, &r, 1, MPI_LONG_LONG, MPI_MIN, comm_);
     return r;
   }
   // Element-wise sums over processes, in place.
   void sum(long long* values, int n) const {
+    const CommunicationTimer timer;
     MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_LONG_LONG, MPI_SUM, comm_);
   }
-  void sum(double* values, int n) const { MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_SUM, comm_); }
+  void sum(double* values, int n) const {
+    const CommunicationTimer timer;
+    MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_SUM, comm_);
+  }
 
   double min(double x) const { return reduce(x, MPI_MIN); }
   // The sum modulo 2^64 (of checksums).
   std::uint64_t sum_modulo(std::uint64_t x) const {
     std::uint64_t r = 0;
+    const CommunicationTimer timer;
     MPI_Allreduce(&x, &r, 1, MPI_UINT64_T, MPI_SUM, comm_);
     return r;
   }
   // The sum of x over the ranks before this one (0 on rank 0).
   long long sum_before(long long x) const {
     long long r = 0;
+    const CommunicationTimer timer;
     MPI_Exscan(&x, &r, 1, MPI_LONG_LONG, MPI_SUM, comm_);
     return rank_ == 0 ? 0 : r;
   }
@@ -136,6 +168,7 @@ class Communicator {
  private:
   double reduce(double x, MPI_Op op) const {
     double r = 0;
+    const CommunicationTimer timer;
     MPI_Allreduce(&x, &r, 1, MPI_DOUBLE, op, comm_);
     return r;
   }

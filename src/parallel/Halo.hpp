@@ -266,6 +266,7 @@ class Halo {
       t.recv_counts = *known_recv_counts;
     } else {
       t.recv_counts.assign(ranks, 0);
+      const CommunicationTimer timer;
       MPI_Alltoall(send_counts.data(), 1, MPI_INT, t.recv_counts.data(), 1, MPI_INT, comm_.comm());
     }
     auto &sc = send_sizes_, &sd = send_offsets_, &rc = recv_sizes_, &rd = recv_offsets_;
@@ -277,6 +278,7 @@ class Halo {
     }
     t.data.resize(r_off);
     keep_headroom(t.data);
+    const CommunicationTimer timer;
     MPI_Alltoallv(send.data(), sc.data(), sd.data(), MPI_DOUBLE, t.data.data(), rc.data(), rd.data(), MPI_DOUBLE,
                   comm_.comm());
     return t;

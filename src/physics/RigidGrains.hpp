@@ -32,6 +32,7 @@
 #include "core/Particles.hpp"
 #include "core/Vec.hpp"
 #include "physics/ContactLaw.hpp"
+#include "physics/WallPressure.hpp"
 #include "parallel/Communicator.hpp"
 #include "scene/SceneConfig.hpp"
 
@@ -126,6 +127,8 @@ class RigidGrains {
     centre_ = View("RigidGrains::centre", n, Dim);
     velocity_ = View("RigidGrains::velocity", n, Dim);
     spin_ = View("RigidGrains::spin", n, kSpin);
+    acceleration_ = View("RigidGrains::acceleration", n, Dim);
+    spin_rate_ = View("RigidGrains::spin_rate", n, kSpin);
     turn_ = View("RigidGrains::turn", n, Dim * Dim);
     begin_ = bodies_;
     upload({});
@@ -296,6 +299,11 @@ class RigidGrains {
     }
   }
   const ContactLaw<Dim>& contact_law() const { return contact_; }
+  // What the wall pressure takes of the grains' motion (empty when they hold still).
+  WallAcceleration<Dim, MemorySpace> wall_acceleration() const {
+    if (!moving()) return {};
+    return {acceleration_, spin_, spin_rate_};
+  }
 
  private:
   using View = Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>;
@@ -328,6 +336,17 @@ class RigidGrains {
     }
     return turns;
   }
+  // The accelerations of the last loads, for the wall pressure.
+  void upload_accelerations() {
+    auto A = Kokkos::create_mirror_view(acceleration_);
+    auto alpha = Kokkos::create_mirror_view(spin_rate_);
+    for (size_t g = 0; g < bodies_.size(); ++g) {
+      for (int d = 0; d < Dim; ++d) A(g, d) = bodies_[g].acceleration[d];
+      for (int k = 0; k < kSpin; ++k) alpha(g, k) = bodies_[g].spin_rate[k];
+    }
+    Kokkos::deep_copy(acceleration_, A);
+    Kokkos::deep_copy(spin_rate_, alpha);
+  }
   // The state the kernels read.
   void upload(const std::vector<std::array<double, Dim * Dim>>& turns) {
     auto c0 = Kokkos::create_mirror_view(centre_start_);
@@ -335,6 +354,7 @@ class RigidGrains {
     auto U = Kokkos::create_mirror_view(velocity_);
     auto w = Kokkos::create_mirror_view(spin_);
     auto R = Kokkos::create_mirror_view(turn_);
+    upload_accelerations();
     for (size_t g = 0; g < bodies_.size(); ++g) {
       for (int d = 0; d < Dim; ++d) c0(g, d) = begin_[g].centre[d], c(g, d) = bodies_[g].centre[d];
       for (int d = 0; d < Dim; ++d) U(g, d) = bodies_[g].velocity[d];
@@ -356,7 +376,7 @@ class RigidGrains {
   double fluid_mass_ = 0;     // over all processes, at the start
   std::vector<Body> bodies_, begin_;
   Vector fluid_body_force_{}, gravity_{}, volume_force_{};
-  View centre_start_, centre_, velocity_, spin_, turn_;
+  View centre_start_, centre_, velocity_, spin_, turn_, acceleration_, spin_rate_;
 };
 
 }  // namespace poresph

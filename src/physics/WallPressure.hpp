@@ -3,9 +3,11 @@
 // (Adami, Hu & Adams, J. Comput. Phys. 231, 2012, eq. 27):
 //   p_w = (sum_f p_f W_wf + (F - a_w) . sum_f rho_f r_wf W_wf) / sum_f W_wf,
 // r_wf = x_w - x_f, over the fluid particles f within the support, F the
-// body acceleration, a_w = 0 for the walls and grains here. The wall then
+// body acceleration, a_w the wall's own acceleration: zero for walls and
+// held grains, A + alpha x r + omega x (omega x r) for a boundary particle
+// at r from the centre of a moving grain (WallAcceleration). The wall then
 // pushes back on the fluid with the pressure the fluid has next to it, plus
-// the hydrostatic part of the body force across the gap.
+// the part of the body force and of its own acceleration across the gap.
 //
 // Why: evolved by the continuity equation, as in the paper, a boundary
 // particle's density integrates sum_f m_f (v_w - v_f) . grad W, which a
@@ -34,6 +36,29 @@ KOKKOS_INLINE_FUNCTION double extrapolated_wall_pressure(double sum_w, double su
                                                          double fallback) {
   return sum_w > 0 ? (sum_pw + force_dot_sum_rho_r_w) / sum_w : fallback;
 }
+
+// The acceleration of moving grains' boundary particles, from each grain's
+// acceleration A, angular acceleration alpha and spin omega (physics/
+// RigidGrains.hpp, as of its last loads): a_w = A + alpha x r + omega x
+// (omega x r), r the particle's offset from the centre (wall_vector).
+// Empty: every wall at rest or moving uniformly.
+template <int Dim, class MemorySpace>
+struct WallAcceleration {
+  static constexpr int kSpin = spin_components<Dim>();
+  Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> acceleration, spin, spin_rate;  // per grain
+  bool active() const { return acceleration.extent(0) > 0; }
+  KOKKOS_INLINE_FUNCTION Vec<Dim> of(int grain, const Vec<Dim>& r) const {
+    double omega[kSpin], alpha[kSpin], offset[Dim], turning[Dim], swinging[Dim], inward[Dim];
+    for (int k = 0; k < kSpin; ++k) omega[k] = spin(grain, k), alpha[k] = spin_rate(grain, k);
+    for (int d = 0; d < Dim; ++d) offset[d] = r[d];
+    spin_cross<Dim>(alpha, offset, turning);
+    spin_cross<Dim>(omega, offset, swinging);
+    spin_cross<Dim>(omega, swinging, inward);
+    Vec<Dim> a;
+    for (int d = 0; d < Dim; ++d) a[d] = acceleration(grain, d) + turning[d] + inward[d];
+    return a;
+  }
+};
 
 // For each owned boundary particle, the fluid particles (owned or ghost)
 // within a radius: built with the neighbour list, from the same cell list.
@@ -130,9 +155,11 @@ template <int Dim, class ExecSpace>
 void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
                                const WallNeighbours<Dim, ExecSpace>& walls, const QuinticKernel<Dim>& kernel,
                                const Vec<Dim>& body_force, double sound_speed_sq, double rest_density,
-                               double reference_pressure, double volume_density) {
+                               double reference_pressure, double volume_density,
+                               const WallAcceleration<Dim, typename ExecSpace::memory_space>& wall_acceleration = {}) {
   const auto Q = P;
   const bool cached = walls.has_geometry();
+  const bool accelerating = wall_acceleration.active();
   static const std::string label = "poresph::extrapolate_wall_pressure";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int w) {
@@ -155,8 +182,10 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
           sum_pw += Q.p(f) * W;
           sum_rho_r_w += (Q.rho(f) * W) * r;
         }
-        const double p =
-            extrapolated_wall_pressure(sum_w, sum_pw, dot(body_force, sum_rho_r_w), sound_speed_sq * rest_density);
+        Vec<Dim> relative_force = body_force;
+        if (accelerating && Q.grain(w) >= 0) relative_force -= wall_acceleration.of(Q.grain(w), row<Dim>(Q.wall_vector, w));
+        const double p = extrapolated_wall_pressure(sum_w, sum_pw, dot(relative_force, sum_rho_r_w),
+                                                    sound_speed_sq * rest_density);
         const double rho = p / sound_speed_sq;
         Q.p(w) = p;
         Q.rho(w) = rho;
