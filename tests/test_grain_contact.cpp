@@ -67,7 +67,7 @@ struct DryGrains {
   double dt;
 
   DryGrains(std::vector<double> list, std::vector<double> velocity, double restitution, double friction,
-            double speed) {
+            double speed, std::vector<int> held = {}) {
     scene = testing::periodic_box(Dim, 50);
     scene.grains = grains_from_list(list, Dim);
     scene.particle_motion = ParticleMotion::Lagrangian;
@@ -77,6 +77,7 @@ struct DryGrains {
     scene.grain_contact.restitution = restitution;
     scene.grain_contact.friction = friction;
     scene.grain_contact.cutoff_spacings = 0;
+    scene.held_grains = held;
     dt = 1e-4;
     // The lightest two collide at `speed` in kStepsPerCollision steps.
     double mass = 1e300, radius = 0;
@@ -203,6 +204,24 @@ TEST(GrainContact, FindsEveryCloseGrainPairAmongMany) {
   }
   EXPECT_GT(pairs, 100);
   for (int d = 0; d < 3; ++d) EXPECT_LT(std::abs(total[d]), 1e-15 * magnitude);
+}
+
+// A free grain thrown at a held one (Grains/Held) bounces off it as off a
+// wall, at the restitution set, and the held grain does not move.
+TEST(GrainContact, BouncesOffAHeldGrain) {
+  const double e = 0.7;
+  DryGrains<2> dry({0.3, 0.5, 0.1, 0.7, 0.5, 0.1}, {0.2, 0, 0, 0}, e, 0.3, 0.2, {1});
+  const auto& b = dry.bodies();
+  int touched = 0;
+  for (int s = 0; s < 40000 && !(touched && b[0].contacts == 0); ++s) {
+    dry.step();
+    touched += b[0].contacts > 0;
+  }
+  ASSERT_GT(touched, 0);
+  EXPECT_NEAR(b[0].velocity[0] / 0.2, -e, 0.01 * e);
+  EXPECT_EQ(b[1].velocity[0], 0.0);
+  EXPECT_EQ(b[1].centre[0], 0.7);
+  EXPECT_EQ(b[1].spin[0], 0.0);
 }
 
 // A grain thrown at the channel's lower wall bounces off it at the

@@ -4,6 +4,7 @@
 // still gives.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -136,6 +137,40 @@ TEST(RigidGrains, StayRigid) {
   const auto& b = sim.rigid_grains().bodies();
   EXPECT_GT(std::abs(b[0].velocity[0]), 0.0);
   EXPECT_GT(std::abs(b[0].turned[0]), 1e-6) << "the grain turned";
+}
+
+// Grains/Held: in a driven flow the held grain and its boundary particles
+// stay where they are while the free grain is carried along.
+TEST(RigidGrains, HeldGrainsStayWhileTheOthersMove) {
+  SceneConfig scene = free_grains(30);
+  scene.held_grains = {0};
+  scene.body_force = {0.02, 0.01, 0};
+  Simulation<2, Space> sim(scene);
+  auto held_positions = [&]() {
+    const auto& P = sim.particles();
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
+    auto grain = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.grain);
+    auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.id);
+    std::map<long long, std::array<double, 2>> at;
+    for (int i = 0; i < P.owned; ++i)
+      if (grain(i) == 0) at[id(i)] = {x(i, 0), x(i, 1)};
+    return at;
+  };
+  const auto before = held_positions();
+  for (int s = 0; s < 300; ++s) sim.step();
+  const auto after = held_positions();
+  ASSERT_EQ(before.size(), after.size());
+  ASSERT_GT(before.size(), 0u);
+  for (const auto& [id, x] : before) {
+    // a wrap by the cell side is the same place
+    EXPECT_NEAR(std::remainder(after.at(id)[0] - x[0], 1.0), 0.0, 1e-15) << "particle " << id;
+    EXPECT_NEAR(std::remainder(after.at(id)[1] - x[1], 1.0), 0.0, 1e-15) << "particle " << id;
+  }
+  const auto& b = sim.rigid_grains().bodies();
+  EXPECT_EQ(b[0].velocity[0], 0.0);
+  EXPECT_EQ(b[0].spin[0], 0.0);
+  EXPECT_GT(std::abs(b[1].velocity[0]), 1e-6) << "the free grain is carried";
+  EXPECT_NE(b[0].fluid_force[0], 0.0) << "the flow pushes on the held grain";
 }
 
 // A square array of discs settling under gravity. In the grains' frame the

@@ -172,6 +172,11 @@ RCP<ParameterList> make_valid_parameters() {
           "suspension is held up as a whole by a uniform pressure gradient on fluid and grains by volume, so "
           "that the grains settle against the fluid (docs/method.md, 'Grains that move'). Empty: none.",
           reals_in(-kHuge, kHuge));
+    s.set("Held", Array<int>(),
+          "Grains that hold still while the others move (Grains/Motion free or rotating): their indices, from 0, "
+          "in the order the grains are given (a pack the free grains are carried through). A scene with held "
+          "grains needs no support of its periodic cell: the held grains hold it. Empty: every grain moves.",
+          ints_in(0, std::numeric_limits<int>::max()));
     s.set("Initial Velocity", Array<double>(),
           "Velocity of the moving grains at the start (m/s): one value per direction for every grain, or one "
           "per direction for each grain in turn (vx, vy, vx, vy, ...). Empty: at rest.",

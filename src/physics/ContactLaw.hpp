@@ -141,6 +141,7 @@ struct ContactBody {
   std::array<double, Dim> centre{}, velocity{};
   std::array<double, spin_components<Dim>()> spin{};
   double mass = 0, radius = 0;
+  bool held = false;  // holds still: of infinite mass to the contact
 };
 
 // The contact forces and torques on each body, and the count of contacts:
@@ -179,8 +180,11 @@ ContactLoads<Dim> contact_loads(const std::vector<ContactBody<Dim>>& bodies, con
     const ContactBody<Dim>& A = bodies[a];
     const bool wall = b < 0;
     const double overlap = law.cutoff_gap - gap;
-    if (overlap <= 0) return;
-    const double mass = wall ? A.mass : A.mass * bodies[b].mass / (A.mass + bodies[b].mass);
+    if (overlap <= 0 || (A.held && (wall || bodies[b].held))) return;
+    // The reduced mass; a held grain, as a wall, is of infinite mass.
+    const double mass = wall || bodies[b].held ? A.mass
+                        : A.held              ? bodies[b].mass
+                                              : A.mass * bodies[b].mass / (A.mass + bodies[b].mass);
     const double radius = wall ? A.radius : A.radius * bodies[b].radius / (A.radius + bodies[b].radius);
     // Both forces act at one point, midway across the gap, so that the
     // contacts keep the angular momentum too; the velocity there on a

@@ -21,6 +21,7 @@
 // are, at the state of the step's start and of its mid-point.
 #include <Kokkos_Core.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -78,6 +79,7 @@ class RigidGrains {
     Spin contact_torque{};
     int contacts = 0;
     double mass = 0, inertia = 0, volume = 0, radius = 0;
+    bool held = false;  // Grains/Held: holds still while the others move
   };
 
   RigidGrains() = default;
@@ -98,10 +100,12 @@ class RigidGrains {
     double grain_mass = 0, grain_volume = 0;
     for (const Grain& g : scene.grains) {
       Body b;
+      b.held = std::find(scene.held_grains.begin(), scene.held_grains.end(), static_cast<int>(bodies_.size())) !=
+               scene.held_grains.end();
       for (int d = 0; d < Dim; ++d) b.centre[d] = g.centre[d];
       const std::vector<double>& start = scene.grain_velocity;
       const size_t first = start.size() == Dim ? 0 : bodies_.size() * Dim;
-      if (!start.empty())
+      if (!start.empty() && !b.held)
         for (int d = 0; d < Dim; ++d) b.velocity[d] = start[first + d];
       b.radius = g.radius;
       b.volume = Dim == 2 ? M_PI * g.radius * g.radius : 4.0 / 3.0 * M_PI * g.radius * g.radius * g.radius;
@@ -113,9 +117,12 @@ class RigidGrains {
     // The support: a uniform force per unit volume s on fluid (s / rho0 per
     // unit mass, the fluid's volume its mass over rho0) and grains, along
     // each periodic direction, such that the external forces add to zero.
+    // Held grains hold the cell themselves: no support.
     const double volume = fluid_mass / scene.density + grain_volume;
+    const bool anchored = !scene.held_grains.empty();
     for (int d = 0; d < Dim; ++d) {
-      const double support = periodic_[d] ? -(fluid_mass + grain_mass) * scene.gravity[d] / volume : 0.0;
+      const double support =
+          periodic_[d] && !anchored ? -(fluid_mass + grain_mass) * scene.gravity[d] / volume : 0.0;
       fluid_body_force_[d] = scene.body_force[d] + scene.gravity[d] + support / scene.density;
       // A grain's: gravity on its mass, the support and the driving pressure
       // gradient rho0 F (Fluid/Body Force) on its volume.
@@ -280,7 +287,7 @@ class RigidGrains {
     std::vector<ContactBody<Dim>> touching(bodies_.size());
     for (size_t g = 0; g < bodies_.size(); ++g) {
       const Body& b = bodies_[g];
-      touching[g] = {b.centre, b.velocity, b.spin, b.mass, b.radius};
+      touching[g] = {b.centre, b.velocity, b.spin, b.mass, b.radius, b.held};
     }
     const ContactLoads<Dim> contact = contact_loads<Dim>(touching, contact_, frame_);
     for (size_t g = 0; g < bodies_.size(); ++g) {
@@ -290,11 +297,11 @@ class RigidGrains {
         b.contact_force[d] = contact.force[g][d];
         const double external = b.mass * gravity_[d] + b.volume * volume_force_[d];
         const double total = b.fluid_force[d] + b.contact_force[d] + external;
-        b.acceleration[d] = motion_ == GrainMotion::Free ? total / b.mass : 0.0;
+        b.acceleration[d] = motion_ == GrainMotion::Free && !b.held ? total / b.mass : 0.0;
       }
       for (int k = 0; k < kSpin; ++k) {
         b.contact_torque[k] = contact.torque[g][k];
-        b.spin_rate[k] = (b.fluid_torque[k] + b.contact_torque[k]) / b.inertia;
+        b.spin_rate[k] = b.held ? 0.0 : (b.fluid_torque[k] + b.contact_torque[k]) / b.inertia;
       }
     }
   }

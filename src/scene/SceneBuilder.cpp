@@ -122,13 +122,34 @@ void read_grain_motion(const ParameterList& grains, SceneConfig& scene) {
     if (has_velocity)
       throw ParameterError("Grains/Initial Velocity sets moving grains going: with Grains/Motion = fixed the "
                            "grains hold still");
+    if (!grains.get<Array<int>>("Held").empty())
+      throw ParameterError("Grains/Held names grains that hold still while the others move: with Grains/Motion "
+                           "= fixed they all hold still");
     return;
   }
   if (has_velocity && scene.grain_motion != GrainMotion::Free)
     throw ParameterError("Grains/Initial Velocity moves the grains' centres: with Grains/Motion = " + motion +
                          " they are held (set Grains/Motion = free)");
   const size_t count = scene.grains.size();
+  const auto held = grains.get<Array<int>>("Held");
+  scene.held_grains.assign(held.begin(), held.end());
+  for (int g : scene.held_grains)
+    if (g >= static_cast<int>(count))
+      throw ParameterError("Grains/Held names grain " + std::to_string(g) + ", and the scene has " +
+                           std::to_string(count) + " (indices from 0)");
+  if (scene.held_grains.size() >= count && !scene.held_grains.empty()) {
+    std::vector<int> sorted(scene.held_grains);
+    std::sort(sorted.begin(), sorted.end());
+    if (std::unique(sorted.begin(), sorted.end()) - sorted.begin() == static_cast<long>(count))
+      throw ParameterError("Grains/Held holds every grain: nothing moves (set Grains/Motion = fixed)");
+  }
   const size_t given = scene.grain_velocity.size();
+  if (given == dim * count)
+    for (int g : scene.held_grains)
+      for (int d = 0; d < dim; ++d)
+        if (scene.grain_velocity[g * dim + d] != 0)
+          throw ParameterError("Grains/Initial Velocity sets grain " + std::to_string(g) +
+                               " going, and Grains/Held holds it still");
   if (given != 0 && given != static_cast<size_t>(dim) && given != dim * count)
     throw ParameterError("Grains/Initial Velocity has " + std::to_string(given) + " values: give " +
                          std::to_string(dim) + " (every grain alike) or " + std::to_string(dim * count) + " (" +
