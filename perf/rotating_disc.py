@@ -18,10 +18,9 @@ t = 3 s (three times H^2 / nu); its spin is the mean over the last sixth.
 import argparse
 import csv
 import os
-import time
 
 from freefem import channel_with_disc, run_result
-from poresph_runs import ROOT, run_poresph
+from poresph_runs import ROOT, run_disc_in_channel
 
 L, H, V0, NU, R, RHO = 1.5e-3, 1.0e-3, 2.5e-5, 1e-6, 1.5e-4, 1000.0
 END_TIME = 3.0
@@ -53,13 +52,8 @@ def poresph_spin(build, across, out, reuse):
     directory = os.path.join(out, f"poresph_{across}")
     seconds = None
     if not (reuse and os.path.exists(os.path.join(directory, "summary.json"))):
-        start = time.monotonic()
-        run_poresph(build, "couette.xml", directory, [
-            f"Domain/Cell Size={{{L!r}, {H!r}}}", f"Walls/Upper Velocity={V0!r}",
-            f"Discretization/Particle Spacing={H / across!r}", "Discretization/Particle Motion=lagrangian",
-            f"Grains/Inline={{{L / 2!r}, {H / 2!r}, {R!r}}}", "Grains/Motion=rotating", f"Grains/Density={RHO!r}",
-            "Diagnostics/Profile Sample Times={}", f"Run/End Time={END_TIME!r}"])
-        seconds = time.monotonic() - start
+        seconds = run_disc_in_channel(build, directory, L, H, R, across, END_TIME, [
+            f"Walls/Upper Velocity={V0!r}", "Grains/Motion=rotating", f"Grains/Density={RHO!r}"])
     with open(os.path.join(directory, "grains_history.csv")) as f:
         history = [(float(r["time"]), float(r["spin"])) for r in csv.DictReader(f)]
     late = [w for t, w in history if t >= END_TIME * 5 / 6]

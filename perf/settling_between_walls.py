@@ -25,10 +25,9 @@ import argparse
 import csv
 import math
 import os
-import time
 
 from freefem import channel_with_disc, run_result
-from poresph_runs import ROOT, run_poresph
+from poresph_runs import ROOT, run_disc_in_channel
 
 L, H, R, NU, RHO, RHO_S, G = 1.0e-3, 1.0e-3, 1.25e-4, 1e-6, 1000.0, 2000.0, 1e-3
 END_TIME = 3.0
@@ -70,13 +69,9 @@ def poresph_velocity(build, across, out, reuse):
     directory = os.path.join(out, f"poresph_{across}")
     seconds = None
     if not (reuse and os.path.exists(os.path.join(directory, "summary.json"))):
-        start = time.monotonic()
-        run_poresph(build, "couette.xml", directory, [
-            f"Domain/Cell Size={{{L!r}, {H!r}}}", "Walls/Upper Velocity=0",
-            f"Discretization/Particle Spacing={H / across!r}", "Discretization/Particle Motion=lagrangian",
-            f"Grains/Inline={{{L / 2!r}, {H / 2!r}, {R!r}}}", "Grains/Motion=free", f"Grains/Density={RHO_S!r}",
-            f"Grains/Gravity={{{-G!r}, 0}}", "Diagnostics/Profile Sample Times={}", f"Run/End Time={END_TIME!r}"])
-        seconds = time.monotonic() - start
+        seconds = run_disc_in_channel(build, directory, L, H, R, across, END_TIME, [
+            "Walls/Upper Velocity=0", "Grains/Motion=free", f"Grains/Density={RHO_S!r}",
+            f"Grains/Gravity={{{-G!r}, 0}}"])
     with open(os.path.join(directory, "grains_history.csv")) as f:
         history = [(float(r["time"]), float(r["velocity_x"]), float(r["centre_y"])) for r in csv.DictReader(f)]
     late = [u for t, u, _ in history if t >= END_TIME * 5 / 6]

@@ -80,14 +80,7 @@ struct DryGrains {
     scene.held_grains = held;
     dt = 1e-4;
     // The lightest two collide at `speed` in kStepsPerCollision steps.
-    double mass = 1e300, radius = 0;
-    for (const Grain& g : scene.grains) {
-      const double m = scene.grain_density * (Dim == 2 ? M_PI * g.radius * g.radius
-                                                       : 4.0 / 3.0 * M_PI * std::pow(g.radius, 3));
-      if (m < mass) mass = m, radius = g.radius;
-    }
-    const double modulus =
-        contact_modulus_for_steps<Dim>(scene.grain_contact, mass, radius, speed, dt, kStepsPerCollision);
+    const double modulus = soft_contact_modulus<Dim>(scene, speed, dt);
     grains = RigidGrains<Dim, Space>(scene, 0.0, modulus);
     grains.accelerate();
   }
@@ -237,8 +230,8 @@ TEST(GrainContact, BouncesOffAChannelWall) {
   scene.grain_velocity = {0, -0.2};
   scene.grain_contact.restitution = 0.6;
   scene.grain_contact.cutoff_spacings = 0;
-  const double dt = 1e-4, mass = 2.5 * M_PI * 0.01;
-  const double modulus = contact_modulus_for_steps<2>(scene.grain_contact, mass, 0.1, 0.2, dt, kStepsPerCollision);
+  const double dt = 1e-4;
+  const double modulus = soft_contact_modulus<2>(scene, 0.2, dt);
   RigidGrains<2, Space> grains(scene, 0.0, modulus);
   grains.accelerate();
   const auto& b = grains.bodies();

@@ -6,7 +6,6 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
-#include <type_traits>
 
 #include "core/ExecutionSpaces.hpp"
 #include "core/Math.hpp"
@@ -91,22 +90,10 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
   // the two lightest grains at the velocity scale, or the contact is made as
   // soft as the fluid's time step resolves.
   const bool contacts = scene.grain_motion == GrainMotion::Free && !scene.grains.empty();
-  double lightest_mass = 0, lightest_radius = 0;
-  if (contacts) {
-    double smallest = scene.grains[0].radius;
-    for (const Grain& g : scene.grains) smallest = std::min(smallest, g.radius);
-    lightest_radius = smallest;
-    lightest_mass = scene.grain_density * (dim == 2 ? M_PI * smallest * smallest : 4.0 / 3.0 * M_PI * std::pow(smallest, 3));
-  }
   const double young = scene.grain_contact.young_modulus;
   if (contacts && young > 0) {
-    auto collision = [&](auto dimension) {
-      constexpr int D = decltype(dimension)::value;
-      const ContactLaw<D> law(young, scene.grain_contact, scene.particle_spacing);
-      return law.collision_time(0.5 * lightest_mass, 0.5 * lightest_radius, p.velocity_scale, false);
-    };
-    const double duration = dim == 2 ? collision(std::integral_constant<int, 2>{})
-                                     : collision(std::integral_constant<int, 3>{});
+    const double duration = dim == 2 ? shortest_collision<2>(scene, young, p.velocity_scale)
+                                     : shortest_collision<3>(scene, young, p.velocity_scale);
     p.limits.contact = duration / kStepsPerCollision;
   }
   p.time_step = scene.time_step > 0 ? scene.time_step : p.limits.smallest();
@@ -124,16 +111,10 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
         << ", body force " << p.limits.force << ", contact " << p.limits.contact << ")";
     throw std::invalid_argument(msg.str());
   }
-  p.contact_modulus = 0;
-  if (contacts) {
-    auto soft = [&](auto dimension) {
-      return contact_modulus_for_steps<decltype(dimension)::value>(scene.grain_contact, lightest_mass, lightest_radius,
-                                                                   p.velocity_scale, p.time_step, kStepsPerCollision);
-    };
-    p.contact_modulus = young > 0 ? young
-                        : dim == 2 ? soft(std::integral_constant<int, 2>{})
-                                   : soft(std::integral_constant<int, 3>{});
-  }
+  p.contact_modulus = !contacts  ? 0.0
+                      : young > 0 ? young
+                      : dim == 2  ? soft_contact_modulus<2>(scene, p.velocity_scale, p.time_step)
+                                  : soft_contact_modulus<3>(scene, p.velocity_scale, p.time_step);
   return p;
 }
 
@@ -472,7 +453,7 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::step() {
   // The work this process did in the step: its wall time less the time in
   // collective operations, where it waits for the others.
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = measure_balance_ ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
   const double waited = communication_seconds();
   for (const StepStage& stage : step_stages_) {
     Kokkos::Profiling::pushRegion(stage.name);

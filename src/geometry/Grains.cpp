@@ -251,7 +251,7 @@ double overlap_volume(double r1, double r2, double d, int dim) {
   constexpr double pi = 3.14159265358979323846;
   if (d >= r1 + r2) return 0.0;
   const double small = std::min(r1, r2);
-  if (d <= std::abs(r1 - r2)) return dim == 2 ? pi * small * small : 4.0 / 3.0 * pi * small * small * small;
+  if (d <= std::abs(r1 - r2)) return ball_volume(small, dim);
   if (dim == 3)  // two spherical caps (e.g. Weisstein, "Sphere-Sphere Intersection")
     return pi * (r1 + r2 - d) * (r1 + r2 - d) * (d * d + 2 * d * r2 - 3 * r2 * r2 + 2 * d * r1 + 6 * r2 * r1 - 3 * r1 * r1) /
            (12 * d);
@@ -265,10 +265,8 @@ double porosity(const std::vector<Grain>& grains, const SceneConfig& scene) {
   const int dim = scene.dimension;
   double cell_volume = 1;
   for (int d = 0; d < dim; ++d) cell_volume *= scene.cell_size[d];
-  constexpr double pi = 3.14159265358979323846;
   double solid = 0;
-  for (const auto& g : grains)
-    solid += dim == 2 ? pi * g.radius * g.radius : 4.0 / 3.0 * pi * g.radius * g.radius * g.radius;
+  for (const auto& g : grains) solid += ball_volume(g.radius, dim);
   // Overlapping pairs (grains in contact in a packing), each with the
   // ball around its lens: the lens lies within the ball centred on the
   // circle where the surfaces meet, of that circle's radius, when neither

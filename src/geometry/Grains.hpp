@@ -18,6 +18,12 @@ std::vector<Grain> read_grain_file(const std::string& path, int dimension);
 // Grains from a flat list cx, cy, r, cx, cy, r, ... (dimension + 1 per grain).
 std::vector<Grain> grains_from_list(const std::vector<double>& values, int dimension);
 
+// The area (2D, per metre of depth) or volume (3D) of a grain of radius r.
+inline double ball_volume(double r, int dim) {
+  constexpr double pi = 3.14159265358979323846;
+  return dim == 2 ? pi * r * r : 4.0 / 3.0 * pi * r * r * r;
+}
+
 // Displacement a - b to the nearest periodic image along periodic directions.
 std::array<double, 3> periodic_difference(const std::array<double, 3>& a, const std::array<double, 3>& b,
                                           const SceneConfig& scene);

@@ -31,8 +31,6 @@ class Draws {
   std::mt19937_64 engine_;
 };
 
-double ball_volume(double r, int dim) { return dim == 2 ? kPi * r * r : 4.0 / 3.0 * kPi * r * r * r; }
-
 std::string fail_message(const std::string& what) { return "Grains/Random Pack: " + what; }
 
 // Radii whose volume is the target solid volume (step 1 of RandomPack.hpp).

@@ -28,6 +28,7 @@
 
 #include "core/Vec.hpp"
 #include "geometry/GrainBins.hpp"
+#include "geometry/Grains.hpp"
 #include "scene/SceneConfig.hpp"
 
 namespace poresph {
@@ -50,7 +51,7 @@ inline NormalisedCollision normalised_collision(double p, double zeta) {
   };
   const double dt = 2e-4;
   double x = 0, v = 1, t = 0;
-  // Runge-Kutta 4 until the surfaces part (at most 20 undamped durations).
+  // Runge-Kutta 4 until the surfaces part (t < 100: some 30 undamped durations).
   while (t < 100) {
     const double k1x = v, k1v = acceleration(x, v);
     const double k2x = v + 0.5 * dt * k1v, k2v = acceleration(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v);
@@ -124,15 +125,23 @@ struct ContactLaw {
   }
 };
 
-// E of the grains' solid that makes a head-on collision of the two
-// lightest grains (the shortest collision of the scene) at the speed v last
-// `steps` time steps of dt: the law is then soft, but resolved.
+// The scene's shortest collision: two of its lightest (smallest) grains
+// meeting head on at `speed`, for Young's modulus `young`. (A grain against
+// a wall, or a lighter against a heavier one, takes longer.)
 template <int Dim>
-double contact_modulus_for_steps(const ContactMaterial& material, double mass, double radius, double speed,
-                                 double dt, double steps) {
-  const ContactLaw<Dim> law(1.0, material, 0.0);  // E = 1: the time scales as E^(-1/(p+1))
-  const double time_at_unit = law.collision_time(0.5 * mass, 0.5 * radius, speed, false);
-  return std::pow(time_at_unit / (steps * dt), ContactLaw<Dim>::power + 1);
+double shortest_collision(const SceneConfig& scene, double young, double speed) {
+  double smallest = scene.grains.at(0).radius;
+  for (const Grain& g : scene.grains) smallest = std::min(smallest, g.radius);
+  const double mass = scene.grain_density * ball_volume(smallest, Dim);
+  return ContactLaw<Dim>(young, scene.grain_contact, 0.0).collision_time(0.5 * mass, 0.5 * smallest, speed, false);
+}
+
+// The Young's modulus that makes the scene's shortest collision at `speed`
+// last kStepsPerCollision time steps of dt: soft, but resolved.
+template <int Dim>
+double soft_contact_modulus(const SceneConfig& scene, double speed, double dt) {
+  // The duration scales as E^(-1/(p+1)): from the one at E = 1.
+  return std::pow(shortest_collision<Dim>(scene, 1.0, speed) / (kStepsPerCollision * dt), ContactLaw<Dim>::power + 1);
 }
 
 // One grain as the contact sees it.

@@ -89,14 +89,14 @@ class RigidGrains {
   // (fluid_body_force()). Free grains touch with Young's modulus
   // contact_modulus (DerivedParameters).
   RigidGrains(const SceneConfig& scene, double fluid_mass, double contact_modulus)
-      : motion_(scene.grain_motion), cell_(scene.cell_size), periodic_(scene.periodic), fluid_mass_(fluid_mass) {
-    if (motion_ == GrainMotion::Fixed) return;
-    if (motion_ == GrainMotion::Free && contact_modulus > 0)
-      contact_ = ContactLaw<Dim>(contact_modulus, scene.grain_contact, scene.particle_spacing);
+      : motion_(scene.grain_motion), fluid_mass_(fluid_mass) {
     frame_.dimension = scene.dimension;
     frame_.cell_size = scene.cell_size;
     frame_.periodic = scene.periodic;
     frame_.walls = scene.walls;
+    if (motion_ == GrainMotion::Fixed) return;
+    if (motion_ == GrainMotion::Free && contact_modulus > 0)
+      contact_ = ContactLaw<Dim>(contact_modulus, scene.grain_contact, scene.particle_spacing);
     double grain_mass = 0, grain_volume = 0;
     for (const Grain& g : scene.grains) {
       Body b;
@@ -108,7 +108,7 @@ class RigidGrains {
       if (!start.empty() && !b.held)
         for (int d = 0; d < Dim; ++d) b.velocity[d] = start[first + d];
       b.radius = g.radius;
-      b.volume = Dim == 2 ? M_PI * g.radius * g.radius : 4.0 / 3.0 * M_PI * g.radius * g.radius * g.radius;
+      b.volume = ball_volume(g.radius, Dim);
       b.mass = scene.grain_density * b.volume;
       b.inertia = (Dim == 2 ? 0.5 : 0.4) * b.mass * g.radius * g.radius;
       grain_mass += b.mass, grain_volume += b.volume;
@@ -122,7 +122,7 @@ class RigidGrains {
     const bool anchored = !scene.held_grains.empty();
     for (int d = 0; d < Dim; ++d) {
       const double support =
-          periodic_[d] && !anchored ? -(fluid_mass + grain_mass) * scene.gravity[d] / volume : 0.0;
+          frame_.periodic[d] && !anchored ? -(fluid_mass + grain_mass) * scene.gravity[d] / volume : 0.0;
       fluid_body_force_[d] = scene.body_force[d] + scene.gravity[d] + support / scene.density;
       // A grain's: gravity on its mass, the support and the driving pressure
       // gradient rho0 F (Fluid/Body Force) on its volume.
@@ -206,7 +206,7 @@ class RigidGrains {
     const auto c0 = centre_start_, c = centre_, U = velocity_, w = spin_, R = turn_;
     Kokkos::Array<double, Dim> side;
     Kokkos::Array<bool, Dim> wrap;
-    for (int d = 0; d < Dim; ++d) side[d] = cell_[d], wrap[d] = periodic_[d];
+    for (int d = 0; d < Dim; ++d) side[d] = frame_.cell_size[d], wrap[d] = frame_.periodic[d];
     static const std::string label = "poresph::RigidGrains::place";
     Kokkos::parallel_for(
         label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
@@ -222,12 +222,10 @@ class RigidGrains {
             turned[d] = 0;
             for (int e = 0; e < Dim; ++e) turned[d] += R(g, d * Dim + e) * from_start[e];
           }
-          double omega[kSpin];
-          for (int k = 0; k < kSpin; ++k) omega[k] = w(g, k);
-          spin_cross<Dim>(omega, turned, moved);
+          point_velocity(U, w, g, turned, moved);
           for (int d = 0; d < Dim; ++d) {
             Q.x(i, d) = Q.x_start(i, d) + (c(g, d) - c0(g, d)) + (turned[d] - from_start[d]);
-            Q.v(i, d) = U(g, d) + moved[d];
+            Q.v(i, d) = moved[d];
             Q.wall_vector(i, d) = turned[d];
           }
         });
@@ -243,11 +241,10 @@ class RigidGrains {
         label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
           const int g = Q.grain(i);
           if (g < 0) return;
-          double omega[kSpin], r[Dim], moved[Dim];
-          for (int k = 0; k < kSpin; ++k) omega[k] = w(g, k);
+          double r[Dim], v[Dim];
           for (int d = 0; d < Dim; ++d) r[d] = Q.wall_vector(i, d);
-          spin_cross<Dim>(omega, r, moved);
-          for (int d = 0; d < Dim; ++d) Q.v(i, d) = U(g, d) + moved[d];
+          point_velocity(U, w, g, r, v);
+          for (int d = 0; d < Dim; ++d) Q.v(i, d) = v[d];
         });
   }
 
@@ -305,7 +302,6 @@ class RigidGrains {
       }
     }
   }
-  const ContactLaw<Dim>& contact_law() const { return contact_; }
   // What the wall pressure takes of the grains' motion (empty when they hold still).
   WallAcceleration<Dim, MemorySpace> wall_acceleration() const {
     if (!moving()) return {};
@@ -329,6 +325,14 @@ class RigidGrains {
       f(contacts);
       b.contacts = static_cast<int>(contacts);
     }
+  }
+
+  // The velocity U + omega x r of the point at r from grain g's centre.
+  KOKKOS_INLINE_FUNCTION static void point_velocity(const View& U, const View& w, int g, const double* r, double* v) {
+    double omega[kSpin], turning[Dim];
+    for (int k = 0; k < kSpin; ++k) omega[k] = w(g, k);
+    spin_cross<Dim>(omega, r, turning);
+    for (int d = 0; d < Dim; ++d) v[d] = U(g, d) + turning[d];
   }
 
   // Each grain's rotation over half the step (predictor: at its start
@@ -376,10 +380,8 @@ class RigidGrains {
   }
 
   GrainMotion motion_ = GrainMotion::Fixed;
-  std::array<double, 3> cell_{};
-  std::array<bool, 3> periodic_{};
+  SceneConfig frame_;        // the cell, its periodic directions and walls (no grains)
   ContactLaw<Dim> contact_;  // inactive unless the grains are free
-  SceneConfig frame_;        // the cell and its walls, for the contacts
   double fluid_mass_ = 0;     // over all processes, at the start
   std::vector<Body> bodies_, begin_;
   Vector fluid_body_force_{}, gravity_{}, volume_force_{};

@@ -74,7 +74,7 @@ enum class GrainMotion { Fixed, Free, Rotating };
 // elasticity, the restitution and friction of a contact, and the gap at
 // which it begins.
 struct ContactMaterial {
-  double young_modulus = 0;  // Pa; 0: soft, from the time step (contact_modulus_for_steps)
+  double young_modulus = 0;  // Pa; 0: soft, from the time step (soft_contact_modulus)
   double poisson_ratio = 0.3;
   double restitution = 0.9;
   double friction = 0.3;
