@@ -2,7 +2,11 @@
 // Field files fields[_x]_<step>.h5 of a run, written collectively by every
 // process (io/Hdf5File.hpp), with particles.xmf and grid.xmf describing all
 // of them as one time series for ParaView (io/Xdmf.hpp). Every file is
-// written under a temporary name and renamed when complete.
+// written under a temporary name and renamed when complete. When grains
+// move, each file also holds the grains (group /grains: centre, velocity,
+// spin, radius, the fluid's and the contacts' force on each, its contacts),
+// which grains.xmf describes as points with vectors: ParaView's Glyph
+// filter, scaled by radius, draws them as discs or spheres.
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -79,24 +83,27 @@ class FieldWriter {
       if (wants("grain")) file.write_rows("grain", owned_rows(sim.grain_ids(), n).data(), n, 0);
       if (wants("id")) file.write_rows("id", owned_rows(P.id, n).data(), n, 0);
       if (!scene_.grid_points.empty()) write_grid(file, block, grid_values);
+      if (scene_.moving_grains()) write_grains(file, sim.rigid_grains().bodies(), comm.rank() == 0);
     });
     add_frame(sim.steps(), sim.time(), total);
     if (comm.rank() == 0) describe();
   }
 
-  // On one process: particles.xmf and grid.xmf describe exactly the frames
-  // listed (none: no description), as after a restart that removed the
-  // frames written past its checkpoint.
+  // On one process: particles.xmf, grid.xmf and grains.xmf describe
+  // exactly the frames listed (none: no description), as after a restart
+  // that removed the frames written past its checkpoint.
   void describe() {
-    const std::string particles = dir_ + "/particles" + suffix_ + ".xmf", grid = dir_ + "/grid" + suffix_ + ".xmf";
+    const std::string particles = dir_ + "/particles" + suffix_ + ".xmf", grid = dir_ + "/grid" + suffix_ + ".xmf",
+                      grains = dir_ + "/grains" + suffix_ + ".xmf";
     if (particle_frames_.empty()) {
-      std::remove(particles.c_str());
-      std::remove(grid.c_str());
+      for (const std::string& name : {particles, grid, grains}) std::remove(name.c_str());
       return;
     }
     write_file_atomically(particles, xdmf_time_series("particles", particle_frames_));
     if (!scene_.grid_points.empty()) write_file_atomically(grid, xdmf_time_series("grid", grid_frames_));
     else std::remove(grid.c_str());
+    if (scene_.moving_grains()) write_file_atomically(grains, xdmf_time_series("grains", grain_frames_));
+    else std::remove(grains.c_str());
   }
 
  private:
@@ -131,6 +138,37 @@ class FieldWriter {
     file.write_block("grid_solid", g, o, c, solid.data());
   }
 
+  // The grains' state, written by the first process alone (every process
+  // holds it all): vectors of three components, as the particles'.
+  template <class Bodies>
+  void write_grains(Hdf5File& file, const Bodies& bodies, bool writer) {
+    const long long n = writer ? static_cast<long long>(bodies.size()) : 0;
+    std::vector<double> centre(n * 3, 0.0), velocity(n * 3, 0.0), spin(n * 3, 0.0), radius(n),
+        fluid_force(n * 3, 0.0), contact_force(n * 3, 0.0);
+    std::vector<int> contacts(n);
+    for (long long g = 0; g < n; ++g) {
+      const auto& b = bodies[g];
+      for (int d = 0; d < Dim; ++d) {
+        double c = b.centre[d];
+        if (scene_.periodic[d]) c -= scene_.cell_size[d] * std::floor(c / scene_.cell_size[d]);
+        centre[g * 3 + d] = c;
+        velocity[g * 3 + d] = b.velocity[d];
+        fluid_force[g * 3 + d] = b.fluid_force[d];
+        contact_force[g * 3 + d] = b.contact_force[d];
+      }
+      for (size_t k = 0; k < b.spin.size(); ++k) spin[g * 3 + (b.spin.size() == 1 ? 2 : k)] = b.spin[k];
+      radius[g] = b.radius;
+      contacts[g] = b.contacts;
+    }
+    file.write_rows("grains/centre", centre.data(), n, 3);
+    file.write_rows("grains/velocity", velocity.data(), n, 3);
+    file.write_rows("grains/spin", spin.data(), n, 3);
+    file.write_rows("grains/radius", radius.data(), n, 0);
+    file.write_rows("grains/fluid_force", fluid_force.data(), n, 3);
+    file.write_rows("grains/contact_force", contact_force.data(), n, 3);
+    file.write_rows("grains/contacts", contacts.data(), n, 0);
+  }
+
   void add_frame(long long step, double time, long long particles) {
     steps_.push_back(static_cast<double>(step));
     times_.push_back(time);
@@ -150,6 +188,19 @@ class FieldWriter {
       if (f == "id") frame.attributes.push_back({"id", "/id", scalar, false, true, 8});
     }
     particle_frames_.push_back(frame);
+    if (scene_.moving_grains()) {
+      const long long n = static_cast<long long>(scene_.grains.size());
+      XdmfFrame grains;
+      grains.time = time;
+      grains.file = file;
+      grains.mesh.count = n;
+      grains.mesh.positions = "/grains/centre";
+      for (const char* name : {"velocity", "spin", "fluid_force", "contact_force"})
+        grains.attributes.push_back({name, std::string("/grains/") + name, {n, 3}, true, false, 8});
+      grains.attributes.push_back({"radius", "/grains/radius", {n}, false, false, 8});
+      grains.attributes.push_back({"contacts", "/grains/contacts", {n}, false, true, 4});
+      grain_frames_.push_back(grains);
+    }
     if (scene_.grid_points.empty()) return;
     XdmfFrame grid;
     grid.time = time;
@@ -180,7 +231,7 @@ class FieldWriter {
   SceneConfig scene_;
   std::string dir_, suffix_;
   std::vector<double> steps_, times_;
-  std::vector<XdmfFrame> particle_frames_, grid_frames_;
+  std::vector<XdmfFrame> particle_frames_, grid_frames_, grain_frames_;
 };
 
 }  // namespace poresph
