@@ -68,6 +68,39 @@ TEST(RigidGrains, FluidAndGrainsConserveMomentum) {
               after[1] - before[1], scale, grain_momentum);
 }
 
+// A grain turning with the fluid around it, as one rigid body, feels no
+// torque. The pair sums' moment alone is the traction of mu grad v, which
+// holds the turning grain by +2 mu V omega (physics/RigidGrains.hpp,
+// turning_stress_torque); with its correction the torque is what the
+// stress mu (grad v + grad v^T) of a rigid turn gives: none.
+TEST(RigidGrains, TurningWithTheFluidAsOneBodyTakesNoTorque) {
+  SceneConfig scene = testing::periodic_box(2, 40);
+  scene.grains = grains_from_list({0.5, 0.5, 0.2}, 2);
+  scene.particle_motion = ParticleMotion::Lagrangian;
+  scene.grain_motion = GrainMotion::Rotating;
+  scene.grain_density = 2.5;
+  scene.velocity_scale = 0.05;
+  const double omega = 0.1;
+  scene.grain_spin = {omega};
+  Simulation<2, Space> sim(scene);
+  {  // the fluid turning with the grain, about its centre (far from the cell's edges the grain reaches)
+    const auto& P = sim.particles();
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
+    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.v);
+    auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
+    for (int i = 0; i < P.owned; ++i)
+      if (kind(i) == kFluid) v(i, 0) = -omega * (x(i, 1) - 0.5), v(i, 1) = omega * (x(i, 0) - 0.5);
+    Kokkos::deep_copy(P.v, v);
+  }
+  const double torque = sim.surface_loads().grain_torque[0][0];
+  const auto& b = sim.rigid_grains().bodies()[0];
+  const double mu = scene.density * scene.kinematic_viscosity, scale = 2 * mu * b.volume * omega;
+  const double pairs_alone = torque - sim.rigid_grains().torque_beyond_pairs(0)[0];
+  std::printf("torque %.3e, the pair sums' moment alone %.3e, 2 mu V omega %.3e\n", torque, pairs_alone, scale);
+  EXPECT_NEAR(pairs_alone, scale, 0.1 * scale) << "the pair sums hold the turning grain by 2 mu V omega";
+  EXPECT_LT(std::abs(torque), 0.1 * scale);
+}
+
 // The acceleration of a point of a turning, accelerating grain, which the
 // wall pressure takes: A + alpha x r + omega x (omega x r).
 TEST(RigidGrains, WallAccelerationOfAPointOnATurningGrain) {
@@ -171,6 +204,60 @@ TEST(RigidGrains, HeldGrainsStayWhileTheOthersMove) {
   EXPECT_EQ(b[0].spin[0], 0.0);
   EXPECT_GT(std::abs(b[1].velocity[0]), 1e-6) << "the free grain is carried";
   EXPECT_NE(b[0].fluid_force[0], 0.0) << "the flow pushes on the held grain";
+}
+
+// Under gravity, a cell resting on a held grain is held up by the
+// hydrostatic pressure gradient: a free grain of the fluid's density and
+// the fluid stay at rest (were the fluid's weight not held, it would flow
+// down through the held grain), and a heavier grain sinks.
+TEST(RigidGrains, ACellRestingOnHeldGrainsIsHydrostatic) {
+  for (const double density : {1.0, 2.5}) {
+    SceneConfig scene = free_grains(30);
+    scene.held_grains = {0};
+    scene.grain_density = density;  // the fluid's is 1
+    scene.gravity = {0.0, -0.01, 0.0};
+    Simulation<2, Space> sim(scene);
+    for (int s = 0; s < 200; ++s) sim.step();
+    const auto& P = sim.particles();
+    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.v);
+    auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
+    double fastest = 0;
+    for (int i = 0; i < P.owned; ++i)
+      if (kind(i) == kFluid) fastest = std::max(fastest, std::hypot(v(i, 0), v(i, 1)));
+    const double sinking = -sim.rigid_grains().bodies()[1].velocity[1];
+    const double free_fall = 0.01 * sim.time();  // the speed gravity alone would give by now
+    std::printf("grain density %.1f: fastest fluid %.2e, the free grain sinks at %.2e (free fall %.2e)\n", density,
+                fastest, sinking, free_fall);
+    if (density == 1.0) {
+      EXPECT_LT(fastest, 1e-6 * free_fall);
+      EXPECT_LT(std::abs(sinking), 1e-6 * free_fall);
+    } else {
+      EXPECT_GT(sinking, 1e-3 * free_fall);
+    }
+  }
+}
+
+// Grains/Prescribed with Initial Velocity and Spin: the prescribed grain
+// keeps its velocity and spin whatever the fluid does, its centre moving
+// and its particles turning as set; the other is free.
+TEST(RigidGrains, PrescribedGrainsMoveAsSet) {
+  SceneConfig scene = free_grains(30);
+  scene.prescribed_grains = {0};
+  scene.grain_velocity = {0.02, -0.01, 0.0, 0.0};
+  scene.grain_spin = {0.5, 0.0};
+  Simulation<2, Space> sim(scene);
+  const auto start = sim.rigid_grains().bodies()[0];
+  for (int s = 0; s < 300; ++s) sim.step();
+  const auto& b = sim.rigid_grains().bodies();
+  const double t = sim.time();
+  EXPECT_EQ(b[0].velocity[0], 0.02);
+  EXPECT_EQ(b[0].velocity[1], -0.01);
+  EXPECT_EQ(b[0].spin[0], 0.5);
+  for (int d = 0; d < 2; ++d)  // the centre, wrapped into the unit cell
+    EXPECT_NEAR(std::remainder(b[0].centre[d] - start.centre[d] - t * b[0].velocity[d], 1.0), 0.0, 1e-13);
+  EXPECT_NEAR(b[0].turned[0], 0.5 * t, 1e-13);
+  EXPECT_NE(b[0].fluid_torque[0], 0.0) << "the fluid resists the prescribed turn";
+  EXPECT_GT(std::hypot(b[1].velocity[0], b[1].velocity[1]), 1e-6) << "the stirred fluid carries the free grain";
 }
 
 // A square array of discs settling under gravity. In the grains' frame the

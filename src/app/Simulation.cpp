@@ -241,8 +241,16 @@ void Simulation<Dim, ExecSpace>::start_moving_grains() {
   Kokkos::deep_copy(space_, Kokkos::subview(particles_.grain, Kokkos::make_pair(0, owned)), grain_ids());
   rigid_grains_ = RigidGrains<Dim, ExecSpace>(scene_, comm_.sum(local_fluid_mass()), derived_.contact_modulus);
   rigid_grains_.set_particle_velocities(space_, particles_);
+  couple_grains();
+}
+
+// What the fluid's steps take of the moving grains: their share of the body
+// force, the loads on them, and their spins in the no-slip.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::couple_grains() {
   for (int d = 0; d < Dim; ++d) body_force_[d] = rigid_grains_.fluid_body_force()[d];
   pair_options_.surface_reactions = true;
+  no_slip_factors_.set_grain_spin(rigid_grains_.spin_view());
 }
 
 template <int Dim, class ExecSpace>
@@ -261,8 +269,7 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::restore_grains(double fluid_mass, const std::vector<double>& state) {
   rigid_grains_ = RigidGrains<Dim, ExecSpace>(scene_, fluid_mass, derived_.contact_modulus);
   rigid_grains_.restore(state);
-  for (int d = 0; d < Dim; ++d) body_force_[d] = rigid_grains_.fluid_body_force()[d];
-  pair_options_.surface_reactions = true;
+  couple_grains();
   follow_grains();
 }
 
@@ -802,6 +809,10 @@ SurfaceLoads<Dim> Simulation<Dim, ExecSpace>::surface_loads() {
     const double* s = sums.data() + g * (Dim + kSpin);
     for (int d = 0; d < Dim; ++d) loads.grain_force[g][d] = s[d];
     for (int k = 0; k < kSpin; ++k) loads.grain_torque[g][k] = s[Dim + k];
+    if (rigid_grains_.moving()) {
+      const auto beyond_pairs = rigid_grains_.torque_beyond_pairs(g);
+      for (int k = 0; k < kSpin; ++k) loads.grain_torque[g][k] += beyond_pairs[k];
+    }
   }
   for (int d = 0; d < Dim; ++d) {
     loads.walls[d] = sums[walls + d], loads.image[d] = sums[image + d];

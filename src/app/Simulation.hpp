@@ -256,6 +256,7 @@ class Simulation {
   void grain_loads_stage();      // "grain loads": the fluid's force and torque on them, their accelerations
   void grains_correct_stage();   // "grains correct": the whole step, their particles placed
   void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity
+  void couple_grains();          // the fluid's share of the body force, the loads, the spins in the no-slip
   void place_grains();           // the grains' particles where the grains are, and the solid map with them
   void follow_grains();          // the scene's grain centres and the solid map where the grains are
   void balance_stage();          // measures the balance; divides the cell anew past the threshold

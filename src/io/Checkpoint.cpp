@@ -80,6 +80,9 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
     entries.emplace_back("Grains/Density", number(scene.grain_density));
     entries.emplace_back("Grains/Gravity", list(scene.gravity.data(), D));
     entries.emplace_back("Grains/Held", list(scene.held_grains.data(), static_cast<int>(scene.held_grains.size())));
+    if (!scene.prescribed_grains.empty())  // (named only when given: the checkpoints of earlier runs still match)
+      entries.emplace_back("Grains/Prescribed",
+                           list(scene.prescribed_grains.data(), static_cast<int>(scene.prescribed_grains.size())));
     const double contact[] = {c.young_modulus, c.poisson_ratio, c.restitution, c.friction, c.cutoff_spacings};
     entries.emplace_back("Grains/Contact (Young Modulus, Poisson Ratio, Restitution, Friction, Cutoff Spacings)",
                          list(contact, 5));

@@ -175,8 +175,20 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Held", Array<int>(),
           "Grains that hold still while the others move (Grains/Motion free or rotating): their indices, from 0, "
           "in the order the grains are given (a pack the free grains are carried through). A scene with held "
-          "grains needs no support of its periodic cell: the held grains hold it. Empty: every grain moves.",
+          "grains rests on them: along a periodic direction the fluid is held up by its hydrostatic pressure "
+          "gradient alone, and a free grain feels its weight less its buoyancy. Empty: every grain moves.",
           ints_in(0, std::numeric_limits<int>::max()));
+    s.set("Prescribed", Array<int>(),
+          "Grains that keep their Initial Velocity and Initial Spin throughout, whatever the fluid and the "
+          "contacts do (Grains/Motion = free): their indices, from 0 (a stirrer, a grain pulled through a pack). "
+          "To a contact they are of infinite mass; a scene with prescribed grains rests on them, as on held "
+          "grains (Grains/Held). Empty: none.",
+          ints_in(0, std::numeric_limits<int>::max()));
+    s.set("Initial Spin", Array<double>(),
+          "Angular velocity of the moving grains at the start (rad/s): in 2D one value (about z) for every grain "
+          "or one for each grain; in 3D three components for every grain, or three for each grain in turn. "
+          "Empty: none.",
+          reals_in(-kHuge, kHuge));
     s.set("Initial Velocity", Array<double>(),
           "Velocity of the moving grains at the start (m/s): one value per direction for every grain, or one "
           "per direction for each grain in turn (vx, vy, vx, vy, ...). Empty: at rest.",

@@ -150,7 +150,7 @@ struct ContactBody {
   std::array<double, Dim> centre{}, velocity{};
   std::array<double, spin_components<Dim>()> spin{};
   double mass = 0, radius = 0;
-  bool held = false;  // holds still: of infinite mass to the contact
+  bool prescribed = false;  // moves as set (a held grain, at rest): of infinite mass to the contact
 };
 
 // The contact forces and torques on each body, and the count of contacts:
@@ -189,10 +189,10 @@ ContactLoads<Dim> contact_loads(const std::vector<ContactBody<Dim>>& bodies, con
     const ContactBody<Dim>& A = bodies[a];
     const bool wall = b < 0;
     const double overlap = law.cutoff_gap - gap;
-    if (overlap <= 0 || (A.held && (wall || bodies[b].held))) return;
-    // The reduced mass; a held grain, as a wall, is of infinite mass.
-    const double mass = wall || bodies[b].held ? A.mass
-                        : A.held              ? bodies[b].mass
+    if (overlap <= 0 || (A.prescribed && (wall || bodies[b].prescribed))) return;
+    // The reduced mass; a prescribed grain, as a wall, is of infinite mass.
+    const double mass = wall || bodies[b].prescribed ? A.mass
+                        : A.prescribed              ? bodies[b].mass
                                               : A.mass * bodies[b].mass / (A.mass + bodies[b].mass);
     const double radius = wall ? A.radius : A.radius * bodies[b].radius / (A.radius + bodies[b].radius);
     // Both forces act at one point, midway across the gap, so that the

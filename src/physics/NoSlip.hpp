@@ -167,6 +167,14 @@ class NoSlipFactors {
   }
   void clear() { built_ = false; }
   bool built() const { return built_; }
+
+  // Moving grains: their angular velocities (a row a grain, the grain's
+  // spin components), which a fluid particle's view of a turning grain's
+  // boundary particle takes (physics/terms/NoSlipTerm.hpp). Empty: none turn.
+  void set_grain_spin(const Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>& spin) { grain_spin_ = spin; }
+  KOKKOS_INLINE_FUNCTION bool grains_turn() const { return grain_spin_.extent(0) > 0; }
+  KOKKOS_INLINE_FUNCTION const double* grain_spin(int grain) const { return &grain_spin_(grain, 0); }
+
   // Factor `index`: row_first(a) plus the number of fluid-boundary entries
   // of row a before this one.
   KOKKOS_INLINE_FUNCTION double factor(int index) const { return factors_(index); }
@@ -179,6 +187,7 @@ class NoSlipFactors {
   Kokkos::View<int*, MemorySpace> row_first_;
   Kokkos::View<bool*, MemorySpace> touches_;
   bool built_ = false;
+  Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> grain_spin_;
 };
 
 }  // namespace poresph

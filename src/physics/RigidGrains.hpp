@@ -19,6 +19,16 @@
 // Free grains also touch one another and the channel's walls through a
 // contact law (physics/ContactLaw.hpp), evaluated where the fluid's loads
 // are, at the state of the step's start and of its mid-point.
+//
+// A turning grain's torque takes one term beyond the pair sums
+// (turning_stress_torque): the viscous pair term is Morris's, the
+// divergence of mu grad v, where the fluid's stress is
+// mu (grad v + grad v^T). Where div v = 0 the two give the fluid the same
+// force, and on a wall at rest (v = 0 on it) the same traction; on a solid
+// turning at omega the first's traction exceeds the second's by
+// mu W n = mu omega x n (W the turn's antisymmetric velocity gradient),
+// whose moment over the surface is mu \oint x x (omega x n) dS = 2 mu V omega
+// by the divergence theorem, for any shape (V the volume, the area in 2D).
 #include <Kokkos_Core.hpp>
 
 #include <algorithm>
@@ -60,10 +70,22 @@ std::array<double, Dim * Dim> rotation_by(const double* theta) {
   return R;
 }
 
+// What the fluid's torque on a solid of volume `volume` (area in 2D)
+// turning at `spin` takes beyond the pair sums' moment: -2 mu V omega, for
+// the fluid's dynamic viscosity mu (see above).
+template <int Dim>
+std::array<double, spin_components<Dim>()> turning_stress_torque(double viscosity, double volume,
+                                                                  const std::array<double, spin_components<Dim>()>& spin) {
+  std::array<double, spin_components<Dim>()> torque{};
+  for (int k = 0; k < spin_components<Dim>(); ++k) torque[k] = -2.0 * viscosity * volume * spin[k];
+  return torque;
+}
+
 template <int Dim, class ExecSpace>
 class RigidGrains {
  public:
   using MemorySpace = typename ExecSpace::memory_space;
+  using View = Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>;
   static constexpr int kSpin = spin_components<Dim>();
   using Vector = std::array<double, Dim>;
   using Spin = std::array<double, kSpin>;
@@ -79,7 +101,7 @@ class RigidGrains {
     Spin contact_torque{};
     int contacts = 0;
     double mass = 0, inertia = 0, volume = 0, radius = 0;
-    bool held = false;  // Grains/Held: holds still while the others move
+    bool prescribed = false;  // Grains/Held or Prescribed: moves as set, not by its loads
   };
 
   RigidGrains() = default;
@@ -89,7 +111,7 @@ class RigidGrains {
   // (fluid_body_force()). Free grains touch with Young's modulus
   // contact_modulus (DerivedParameters).
   RigidGrains(const SceneConfig& scene, double fluid_mass, double contact_modulus)
-      : motion_(scene.grain_motion), fluid_mass_(fluid_mass) {
+      : motion_(scene.grain_motion), fluid_mass_(fluid_mass), viscosity_(scene.density * scene.kinematic_viscosity) {
     frame_.dimension = scene.dimension;
     frame_.cell_size = scene.cell_size;
     frame_.periodic = scene.periodic;
@@ -100,13 +122,19 @@ class RigidGrains {
     double grain_mass = 0, grain_volume = 0;
     for (const Grain& g : scene.grains) {
       Body b;
-      b.held = std::find(scene.held_grains.begin(), scene.held_grains.end(), static_cast<int>(bodies_.size())) !=
-               scene.held_grains.end();
+      const int index = static_cast<int>(bodies_.size());
+      auto named = [&](const std::vector<int>& list) { return std::find(list.begin(), list.end(), index) != list.end(); };
+      const bool held = named(scene.held_grains);
+      b.prescribed = held || named(scene.prescribed_grains);
       for (int d = 0; d < Dim; ++d) b.centre[d] = g.centre[d];
-      const std::vector<double>& start = scene.grain_velocity;
-      const size_t first = start.size() == Dim ? 0 : bodies_.size() * Dim;
-      if (!start.empty() && !b.held)
-        for (int d = 0; d < Dim; ++d) b.velocity[d] = start[first + d];
+      // Grains/Initial Velocity and Spin: one set for every grain, or one a grain.
+      auto start = [&](const std::vector<double>& values, int per_grain, double* out) {
+        const size_t first = values.size() == static_cast<size_t>(per_grain) ? 0 : index * per_grain;
+        if (!values.empty() && !held)
+          for (int k = 0; k < per_grain; ++k) out[k] = values[first + k];
+      };
+      start(scene.grain_velocity, Dim, b.velocity.data());
+      start(scene.grain_spin, kSpin, b.spin.data());
       b.radius = g.radius;
       b.volume = ball_volume(g.radius, Dim);
       b.mass = scene.grain_density * b.volume;
@@ -117,12 +145,15 @@ class RigidGrains {
     // The support: a uniform force per unit volume s on fluid (s / rho0 per
     // unit mass, the fluid's volume its mass over rho0) and grains, along
     // each periodic direction, such that the external forces add to zero.
-    // Held grains hold the cell themselves: no support.
+    // Where held or prescribed grains hold the cell, the support is the
+    // hydrostatic pressure gradient, s = -rho0 g: fluid at rest stays at
+    // rest, and a grain feels its weight less its buoyancy.
     const double volume = fluid_mass / scene.density + grain_volume;
-    const bool anchored = !scene.held_grains.empty();
+    const bool anchored = !scene.held_grains.empty() || !scene.prescribed_grains.empty();
     for (int d = 0; d < Dim; ++d) {
-      const double support =
-          frame_.periodic[d] && !anchored ? -(fluid_mass + grain_mass) * scene.gravity[d] / volume : 0.0;
+      const double support = !frame_.periodic[d] ? 0.0
+                             : anchored          ? -scene.density * scene.gravity[d]
+                                                 : -(fluid_mass + grain_mass) * scene.gravity[d] / volume;
       fluid_body_force_[d] = scene.body_force[d] + scene.gravity[d] + support / scene.density;
       // A grain's: gravity on its mass, the support and the driving pressure
       // gradient rho0 F (Fluid/Body Force) on its volume.
@@ -143,6 +174,12 @@ class RigidGrains {
 
   bool moving() const { return motion_ != GrainMotion::Fixed && !bodies_.empty(); }
   double fluid_mass() const { return fluid_mass_; }
+  // The grains' angular velocities on the device, a row a grain (kept up to date by the steps).
+  const View& spin_view() const { return spin_; }
+  // Grain g's torque beyond its pair sums' moment, at its present spin.
+  Spin torque_beyond_pairs(int g) const {
+    return turning_stress_torque<Dim>(viscosity_, bodies_[g].volume, bodies_[g].spin);
+  }
 
   // The grains' state as numbers, for a checkpoint: what a run needs to go
   // on bit for bit (restore()).
@@ -273,7 +310,8 @@ class RigidGrains {
       Body& b = bodies_[g];
       const double* s = sums.data() + g * (Dim + kSpin);
       for (int d = 0; d < Dim; ++d) b.fluid_force[d] = s[d];
-      for (int k = 0; k < kSpin; ++k) b.fluid_torque[k] = s[Dim + k];
+      const Spin beyond_pairs = torque_beyond_pairs(g);
+      for (int k = 0; k < kSpin; ++k) b.fluid_torque[k] = s[Dim + k] + beyond_pairs[k];
     }
     accelerate();
   }
@@ -284,7 +322,7 @@ class RigidGrains {
     std::vector<ContactBody<Dim>> touching(bodies_.size());
     for (size_t g = 0; g < bodies_.size(); ++g) {
       const Body& b = bodies_[g];
-      touching[g] = {b.centre, b.velocity, b.spin, b.mass, b.radius, b.held};
+      touching[g] = {b.centre, b.velocity, b.spin, b.mass, b.radius, b.prescribed};
     }
     const ContactLoads<Dim> contact = contact_loads<Dim>(touching, contact_, frame_);
     for (size_t g = 0; g < bodies_.size(); ++g) {
@@ -294,11 +332,11 @@ class RigidGrains {
         b.contact_force[d] = contact.force[g][d];
         const double external = b.mass * gravity_[d] + b.volume * volume_force_[d];
         const double total = b.fluid_force[d] + b.contact_force[d] + external;
-        b.acceleration[d] = motion_ == GrainMotion::Free && !b.held ? total / b.mass : 0.0;
+        b.acceleration[d] = motion_ == GrainMotion::Free && !b.prescribed ? total / b.mass : 0.0;
       }
       for (int k = 0; k < kSpin; ++k) {
         b.contact_torque[k] = contact.torque[g][k];
-        b.spin_rate[k] = b.held ? 0.0 : (b.fluid_torque[k] + b.contact_torque[k]) / b.inertia;
+        b.spin_rate[k] = b.prescribed ? 0.0 : (b.fluid_torque[k] + b.contact_torque[k]) / b.inertia;
       }
     }
   }
@@ -309,8 +347,6 @@ class RigidGrains {
   }
 
  private:
-  using View = Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>;
-
   // f(number) for every number of a body's state that changes in a run.
   template <class B, class F>
   static void for_each_number(B& b, F&& f) {
@@ -383,6 +419,7 @@ class RigidGrains {
   SceneConfig frame_;        // the cell, its periodic directions and walls (no grains)
   ContactLaw<Dim> contact_;  // inactive unless the grains are free
   double fluid_mass_ = 0;     // over all processes, at the start
+  double viscosity_ = 0;      // the fluid's dynamic viscosity, for turning_stress_torque
   std::vector<Body> bodies_, begin_;
   Vector fluid_body_force_{}, gravity_{}, volume_force_{};
   View centre_start_, centre_, velocity_, spin_, turn_, acceleration_, spin_rate_;

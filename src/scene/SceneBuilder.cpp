@@ -109,6 +109,10 @@ void read_grain_motion(const ParameterList& grains, SceneConfig& scene) {
   const auto velocity = grains.get<Array<double>>("Initial Velocity");
   scene.grain_velocity.assign(velocity.begin(), velocity.end());
   const bool has_velocity = std::any_of(velocity.begin(), velocity.end(), [](double v) { return v != 0; });
+  const auto spin = grains.get<Array<double>>("Initial Spin");
+  scene.grain_spin.assign(spin.begin(), spin.end());
+  const bool has_spin = std::any_of(spin.begin(), spin.end(), [](double w) { return w != 0; });
+  const auto prescribed = grains.get<Array<int>>("Prescribed");
   const auto& contact = grains.sublist("Contact");
   scene.grain_contact.young_modulus = contact.get<double>("Young Modulus");
   scene.grain_contact.poisson_ratio = contact.get<double>("Poisson Ratio");
@@ -119,41 +123,64 @@ void read_grain_motion(const ParameterList& grains, SceneConfig& scene) {
     if (has_gravity)
       throw ParameterError("Grains/Gravity acts on moving grains: with Grains/Motion = fixed it would do nothing; "
                            "drive the fluid with Fluid/Body Force");
-    if (has_velocity)
-      throw ParameterError("Grains/Initial Velocity sets moving grains going: with Grains/Motion = fixed the "
-                           "grains hold still");
+    if (has_velocity || has_spin)
+      throw ParameterError(std::string("Grains/Initial ") + (has_velocity ? "Velocity" : "Spin") +
+                           " sets moving grains going: with Grains/Motion = fixed the grains hold still");
     if (!grains.get<Array<int>>("Held").empty())
       throw ParameterError("Grains/Held names grains that hold still while the others move: with Grains/Motion "
                            "= fixed they all hold still");
+    if (!prescribed.empty())
+      throw ParameterError("Grains/Prescribed names grains that keep their initial velocity and spin: with "
+                           "Grains/Motion = fixed they all hold still (set Grains/Motion = free)");
     return;
   }
   if (has_velocity && scene.grain_motion != GrainMotion::Free)
     throw ParameterError("Grains/Initial Velocity moves the grains' centres: with Grains/Motion = " + motion +
                          " they are held (set Grains/Motion = free)");
+  if (!prescribed.empty() && scene.grain_motion != GrainMotion::Free)
+    throw ParameterError("Grains/Prescribed moves grains at their initial velocity: with Grains/Motion = " +
+                         motion + " the centres are held (set Grains/Motion = free)");
   const size_t count = scene.grains.size();
   const auto held = grains.get<Array<int>>("Held");
   scene.held_grains.assign(held.begin(), held.end());
-  for (int g : scene.held_grains)
-    if (g >= static_cast<int>(count))
-      throw ParameterError("Grains/Held names grain " + std::to_string(g) + ", and the scene has " +
-                           std::to_string(count) + " (indices from 0)");
-  if (scene.held_grains.size() >= count && !scene.held_grains.empty()) {
-    std::vector<int> sorted(scene.held_grains);
-    std::sort(sorted.begin(), sorted.end());
-    if (std::unique(sorted.begin(), sorted.end()) - sorted.begin() == static_cast<long>(count))
-      throw ParameterError("Grains/Held holds every grain: nothing moves (set Grains/Motion = fixed)");
-  }
-  const size_t given = scene.grain_velocity.size();
-  if (given == dim * count)
-    for (int g : scene.held_grains)
-      for (int d = 0; d < dim; ++d)
-        if (scene.grain_velocity[g * dim + d] != 0)
-          throw ParameterError("Grains/Initial Velocity sets grain " + std::to_string(g) +
-                               " going, and Grains/Held holds it still");
-  if (given != 0 && given != static_cast<size_t>(dim) && given != dim * count)
-    throw ParameterError("Grains/Initial Velocity has " + std::to_string(given) + " values: give " +
-                         std::to_string(dim) + " (every grain alike) or " + std::to_string(dim * count) + " (" +
-                         std::to_string(dim) + " for each of the " + std::to_string(count) + " grains)");
+  scene.prescribed_grains.assign(prescribed.begin(), prescribed.end());
+  for (const auto& [name, list] : {std::pair<const char*, const std::vector<int>*>{"Held", &scene.held_grains},
+                                   {"Prescribed", &scene.prescribed_grains}})
+    for (int g : *list)
+      if (g >= static_cast<int>(count))
+        throw ParameterError(std::string("Grains/") + name + " names grain " + std::to_string(g) +
+                             ", and the scene has " + std::to_string(count) + " (indices from 0)");
+  for (int g : scene.prescribed_grains)
+    if (std::find(scene.held_grains.begin(), scene.held_grains.end(), g) != scene.held_grains.end())
+      throw ParameterError("Grains/Held holds grain " + std::to_string(g) +
+                           " still, and Grains/Prescribed moves it as set: name it in one of the two");
+  std::vector<int> set(scene.held_grains);
+  set.insert(set.end(), scene.prescribed_grains.begin(), scene.prescribed_grains.end());
+  std::sort(set.begin(), set.end());
+  if (!set.empty() && std::unique(set.begin(), set.end()) - set.begin() == static_cast<long>(count))
+    throw ParameterError(scene.prescribed_grains.empty()
+                             ? "Grains/Held holds every grain: nothing moves (set Grains/Motion = fixed)"
+                             : "Grains/Held and Grains/Prescribed set the motion of every grain: the fluid moves "
+                               "none of them");
+  // Grains/Initial Velocity and Initial Spin: one set for every grain, or
+  // one a grain; none for a held grain.
+  const int spin_values = dim == 2 ? 1 : 3;
+  auto check_start = [&](const std::vector<double>& values, const char* name, int per_grain, const char* unit) {
+    const size_t given = values.size();
+    if (given == per_grain * count)
+      for (int g : scene.held_grains)
+        for (int k = 0; k < per_grain; ++k)
+          if (values[g * per_grain + k] != 0)
+            throw ParameterError(std::string("Grains/Initial ") + name + " sets grain " + std::to_string(g) +
+                                 " going, and Grains/Held holds it still");
+    if (given != 0 && given != static_cast<size_t>(per_grain) && given != per_grain * count)
+      throw ParameterError(std::string("Grains/Initial ") + name + " has " + std::to_string(given) +
+                           " values: give " + std::to_string(per_grain) + " (every grain alike) or " +
+                           std::to_string(per_grain * count) + " (" + std::to_string(per_grain) + " " + unit +
+                           " for each of the " + std::to_string(count) + " grains)");
+  };
+  check_start(scene.grain_velocity, "Velocity", dim, "components");
+  check_start(scene.grain_spin, "Spin", spin_values, dim == 2 ? "value, about z," : "components");
   if (scene.grains.empty())
     throw ParameterError("Grains/Motion = " + motion + " moves grains, and the scene has none (Grains/File, "
                          "Grains/Inline or Grains/Random Pack)");

@@ -117,7 +117,9 @@ struct SceneConfig {
   double grain_density = 0.0;          // kg/m^3, for moving grains' mass and inertia
   std::array<double, 3> gravity{};     // on moving grains and the fluid (Grains/Gravity)
   std::vector<double> grain_velocity;  // Grains/Initial Velocity: Dim values, or Dim a grain; empty: at rest
+  std::vector<double> grain_spin;      // Grains/Initial Spin: 1 value (3 in 3D), or as many a grain; empty: none
   std::vector<int> held_grains;        // Grains/Held: indices of grains that hold still while the others move
+  std::vector<int> prescribed_grains;  // Grains/Prescribed: grains that keep their initial velocity and spin
   ContactMaterial grain_contact;       // Grains/Contact
   bool moving_grains() const { return grain_motion != GrainMotion::Fixed && !grains.empty(); }
   // How the grains were made when PoreSPH made them (Grains/Random Pack):

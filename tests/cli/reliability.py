@@ -242,6 +242,7 @@ def class_3_grains():
              absent(base))
     # Grains that move: what they need, said before anything runs.
     grain = "Grains/Inline={0.5, 0.5, 0.2}"
+    two_grains = "Grains/Inline={0.3, 0.5, 0.1, 0.7, 0.5, 0.1}"
     lagrangian = "Discretization/Particle Motion=lagrangian"
     motion_cases = [
         ("moving grains in a fixed fluid", [grain, "Grains/Motion=free", "Grains/Density=2000"],
@@ -274,6 +275,25 @@ def class_3_grains():
          r"Grains/Held names grains that hold still while the others move: with Grains/Motion = fixed"),
         ("every grain held", [grain, "Grains/Motion=free", "Grains/Density=2000", lagrangian, "Grains/Held={0}"],
          r"Grains/Held holds every grain: nothing moves"),
+        ("a start spin for grains that hold still", [grain, "Grains/Initial Spin={0.1}"],
+         r"Grains/Initial Spin sets moving grains going: with Grains/Motion = fixed"),
+        ("a start spin of the wrong count", [grain, "Grains/Motion=rotating", "Grains/Density=2000", lagrangian,
+                                             "Grains/Initial Spin={0.1, 0.2, 0.3}"],
+         r"Grains/Initial Spin has 3 values: give 1 \(every grain alike\) or 1"),
+        ("a prescribed grain where all hold still", [grain, "Grains/Prescribed={0}"],
+         r"Grains/Prescribed names grains that keep their initial velocity and spin: with Grains/Motion = fixed"),
+        ("a prescribed grain of grains that only turn", [grain, "Grains/Motion=rotating", "Grains/Density=2000",
+                                                         lagrangian, "Grains/Prescribed={0}"],
+         r"Grains/Prescribed moves grains at their initial velocity: with Grains/Motion = rotating"),
+        ("a prescribed grain that is not there", [two_grains, "Grains/Motion=free", "Grains/Density=2000",
+                                                  lagrangian, "Grains/Prescribed={2}"],
+         r"Grains/Prescribed names grain 2, and the scene has 2"),
+        ("a grain both held and prescribed", [two_grains, "Grains/Motion=free", "Grains/Density=2000", lagrangian,
+                                              "Grains/Held={0}", "Grains/Prescribed={0}"],
+         r"Grains/Held holds grain 0 still, and Grains/Prescribed moves it as set"),
+        ("every grain held or prescribed", [two_grains, "Grains/Motion=free", "Grains/Density=2000", lagrangian,
+                                            "Grains/Held={0}", "Grains/Prescribed={1}"],
+         r"Grains/Held and Grains/Prescribed set the motion of every grain"),
         ("a rebalance threshold under 1", [lagrangian, "Parallel/Rebalance Threshold=0.5"],
          r"Parallel/Rebalance Threshold = 0.5.*: the slowest process's time over the mean is at least 1"),
         ("a rebalance of the process grid", [lagrangian, "Parallel/Rebalance Threshold=1.2",
@@ -296,12 +316,30 @@ def class_3_grains():
         if min(float(r["velocity_x"]) for r in rows) >= 0:
             return f"grain 0 never turned back: {rows}"
         return ""
-    case("two grains thrown at each other touch and bounce back",
+    def grains_described():
+        # grains.xmf: a frame per field file, the two grains as points with vectors
+        import xml.etree.ElementTree as ElementTree
+        problem = met_and_parted() or frames_consistent(colliding)
+        path = os.path.join(colliding, "grains.xmf")
+        if problem or not os.path.exists(path):
+            return problem or "no grains.xmf"
+        frames = [g for g in ElementTree.parse(path).iter("Grid") if g.get("GridType") == "Uniform"]
+        fields = [f for f in os.listdir(colliding) if f.startswith("fields_") and f.endswith(".h5")]
+        if len(frames) != len(fields) or len(fields) < 3:
+            return f"grains.xmf has {len(frames)} frames for {len(fields)} field files"
+        for frame in frames:
+            points = frame.find("Topology").get("NumberOfElements")
+            named = {a.get("Name") for a in frame.iter("Attribute")}
+            if points != "2" or not {"velocity", "spin", "radius", "fluid_force", "contact_force"} <= named:
+                return f"a frame of grains.xmf has {points} points and attributes {sorted(named)}"
+        return ""
+    case("two grains thrown at each other touch and bounce back, described frame by frame in grains.xmf",
          [TINY, "--output", colliding] + sets("Grains/Inline={0.3, 0.5, 0.15, 0.7, 0.5, 0.15}", "Grains/Motion=free",
                                               "Grains/Density=2500", lagrangian, "Fluid/Velocity Scale=0.1",
                                               "Fluid/Kinematic Viscosity=0.001", "Run/Max Steps=300",
-                                              "Grains/Initial Velocity={0.05, 0, -0.05, 0}"),
-         0, r"summary in", met_and_parted)
+                                              "Grains/Initial Velocity={0.05, 0, -0.05, 0}",
+                                              "Output/Field Interval=1"),
+         0, r"summary in", grains_described)
     light = fresh("light-grains")
     case("grains far lighter than the fluid are warned of",
          [TINY, "--output", light] + sets(grain, "Grains/Motion=free", "Grains/Density=100", lagrangian,
@@ -312,13 +350,13 @@ def class_3_grains():
     colliding_scene = sets("Grains/Inline={0.3, 0.5, 0.15, 0.7, 0.5, 0.15}", "Grains/Motion=free",
                            "Grains/Density=2500", lagrangian, "Fluid/Velocity Scale=0.1",
                            "Fluid/Kinematic Viscosity=0.001", "Grains/Initial Velocity={0.05, 0, -0.05, 0}",
-                           "Run/End Time=5", "Output/Final Particles CSV=true")
+                           "Run/End Time=5", "Output/Final Particles CSV=true", "Output/Field Interval=1")
     whole, cut = fresh("moving-grains-whole"), fresh("moving-grains-continued")
     run([TINY, "--output", whole] + colliding_scene)
     run([TINY, "--output", cut] + colliding_scene + sets("Run/Max Steps=230"))
     def same_files():
         return "; ".join(f"{name} differs from the run in one go" for name in
-                         ("grains_history.csv", "surface_forces.csv", "particles.csv")
+                         ("grains_history.csv", "surface_forces.csv", "particles.csv", "grains.xmf")
                          if not os.path.exists(os.path.join(cut, name)) or
                          open(os.path.join(whole, name)).read() != open(os.path.join(cut, name)).read())
     case("moving grains stopped at step 230 of 400 and continued go on bit for bit",
@@ -660,7 +698,7 @@ def frames_consistent(out):
     present = {f for f in os.listdir(out) if f.startswith("fields") and f.endswith(".h5")}
     described = set()
     for xmf in sorted(f for f in os.listdir(out) if f.endswith(".xmf")):
-        suffix = xmf[len("particles"):-4] if xmf.startswith("particles") else xmf[len("grid"):-4]
+        suffix = re.sub(r"^(particles|grid|grains)", "", xmf[:-4])
         files = set()
         for item in ElementTree.parse(os.path.join(out, xmf)).iter("DataItem"):
             if item.get("Format") == "HDF":
