@@ -789,7 +789,7 @@ SurfaceLoads<Dim> Simulation<Dim, ExecSpace>::surface_loads() {
             return;
           }
           double torque[kSpin];
-          moment_of<Dim>(offset, F.c, torque);
+          grain_moment<Dim>(offset, Q.wall_scalar(a), F.c, torque);
           first = g * (Dim + kSpin);
           for (int k = 0; k < kSpin; ++k) Kokkos::atomic_add(&totals(first + Dim + k), torque[k]);
         }

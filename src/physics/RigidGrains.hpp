@@ -70,6 +70,23 @@ std::array<double, Dim * Dim> rotation_by(const double* theta) {
   return R;
 }
 
+// The torque about a grain's centre of the force F on its boundary
+// particle at `offset` from the centre, the force taken where it crosses
+// the grain's surface: at radius R on the particle's radial line. The
+// fluid's momentum reaches the grain through its surface; the boundary
+// particle that takes it lies up to a kernel's reach inside, and a moment
+// about its own place would be short by its depth (10 % of a disc's
+// torque at R = 6 spacings, 5 % at 12).
+template <int Dim>
+KOKKOS_INLINE_FUNCTION void grain_moment(const double* offset, double radius, const double* F, double* torque) {
+  double length2 = 0;
+  for (int d = 0; d < Dim; ++d) length2 += offset[d] * offset[d];
+  const double scale = length2 > 0 ? radius / math::sqrt(length2) : 0.0;
+  double arm[Dim];
+  for (int d = 0; d < Dim; ++d) arm[d] = scale * offset[d];
+  moment_of<Dim>(arm, F, torque);
+}
+
 // What the fluid's torque on a solid of volume `volume` (area in 2D)
 // turning at `spin` takes beyond the pair sums' moment: -2 mu V omega, for
 // the fluid's dynamic viscosity mu (see above).
@@ -300,7 +317,7 @@ class RigidGrains {
       if (g < 0) continue;
       double F[Dim], r[Dim], T[kSpin];
       for (int d = 0; d < Dim; ++d) F[d] = m(i) * dvdt(i, d), r[d] = offset(i, d);
-      moment_of<Dim>(r, F, T);
+      grain_moment<Dim>(r, bodies_[g].radius, F, T);
       double* s = sums.data() + g * (Dim + kSpin);
       for (int d = 0; d < Dim; ++d) s[d] += F[d];
       for (int k = 0; k < kSpin; ++k) s[Dim + k] += T[k];
