@@ -19,16 +19,19 @@ std::atomic<long long> heap_allocations{0};
 std::atomic<long long> kokkos_allocations{0};
 }  // namespace
 
-void* operator new(std::size_t size) {
+// Not inlined: where GCC inlines both the replaced new and delete into a
+// caller it pairs the malloc with a free behind an operator new and warns
+// of a mismatch (-Wmismatched-new-delete) that the replacement makes right.
+[[gnu::noinline]] void* operator new(std::size_t size) {
   ++heap_allocations;
   if (void* p = std::malloc(size ? size : 1)) return p;
   throw std::bad_alloc();
 }
-void* operator new[](std::size_t size) { return operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+[[gnu::noinline]] void* operator new[](std::size_t size) { return operator new(size); }
+[[gnu::noinline]] void operator delete(void* p) noexcept { std::free(p); }
+[[gnu::noinline]] void operator delete[](void* p) noexcept { std::free(p); }
+[[gnu::noinline]] void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+[[gnu::noinline]] void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace poresph {
 namespace {
