@@ -79,15 +79,17 @@ def run_poresph(build, scene, directory, settings=(), ranks=None, threads=1, all
     return read_summary(directory)
 
 
-def run_disc_in_channel(build, directory, length, height, radius, across, end_time, settings=()):
+def run_disc_in_channel(build, directory, length, height, radius, across, end_time, settings=(),
+                        particle_motion="lagrangian"):
     """input/couette.xml made LENGTH long (periodic) and HEIGHT high, ACROSS
-    particles across the height, moving particles, a disc of RADIUS at its
-    centre, no profile samples, to END_TIME; SETTINGS add the walls' speed
-    and how the disc moves. Returns the wall seconds."""
+    particles across the height, moving particles (or PARTICLE_MOTION), a
+    disc of RADIUS at its centre, no profile samples, to END_TIME; SETTINGS
+    add the walls' speed and how the disc moves. Returns the wall seconds."""
     start = time.monotonic()
     run_poresph(build, "couette.xml", directory, [
         f"Domain/Cell Size={{{length!r}, {height!r}}}", f"Discretization/Particle Spacing={height / across!r}",
-        "Discretization/Particle Motion=lagrangian", f"Grains/Inline={{{length / 2!r}, {height / 2!r}, {radius!r}}}",
+        f"Discretization/Particle Motion={particle_motion}",
+        f"Grains/Inline={{{length / 2!r}, {height / 2!r}, {radius!r}}}",
         "Diagnostics/Profile Sample Times={}", f"Run/End Time={end_time!r}", *settings])
     return time.monotonic() - start
 
