@@ -12,15 +12,19 @@ slowed: the same scene on 2 processes, one a core (taskset), with a third
     program that only computes sharing the first process's core, as another
     user's job would (the paper's case of processors whose speed changes):
     held and balanced. The balance is by measured time, so the process on
-    the shared core is given fewer particles. (Two of the run's own
-    processes sharing a core do not show it: they wait for each other in
-    every exchange and take turns on the core, each computing at full speed
-    while the other waits, so every process's computing time is the same.)
+    the shared core is given fewer particles.
+shared: the same scene on 3 processes, processes 0 and 1 sharing core 0
+    and process 2 alone on core 1 (this machine's two cores; the layout
+    "two sharing a core beside two alone" needs four). Whether the two on
+    one core show up as slower depends on whether they compute at once
+    (each at half speed) or take turns (each at full speed while the other
+    waits in an exchange): the balance sees only the first. (Four
+    processes on two cores, two a core, are alike and show nothing.)
 
 The runs of one comparison go one after the other on the same machine; the
 figures are wall-clock times and move with the machine's other load.
 
-    perf/load_balance.py [--case column slowed] [--ranks 4] [--end-time 20]
+    perf/load_balance.py [--case column slowed shared] [--ranks 4] [--end-time 20] [--figure PNG]
         [--threshold 1.1] [--interval 200] [--build build] [--out build/load_balance]
 """
 import argparse
@@ -36,17 +40,22 @@ from poresph_runs import MPI_ENV, ROOT
 SCENE = os.path.join(ROOT, "input", "moving", "settling_column.xml")
 
 
-def run(build, directory, ranks, settings, slowed):
-    """One run into DIRECTORY; returns its wall seconds."""
+def run(build, directory, ranks, settings, layout):
+    """One run into DIRECTORY; returns its wall seconds. layout: None (processes where the system
+    puts them), "hog" (process r on core r, a busy loop on core 0) or "shared" (the last process on
+    core 1, the others on core 0)."""
     program = [os.path.join(build, "poresph"), SCENE, "--output", directory, "--overwrite",
                "--set", "Run/Progress=never"]
     for s in settings:
         program += ["--set", s]
     hog = None
-    if slowed:
-        # Process r on core r; a busy loop on core 0 beside process 0.
+    if layout == "hog":
         command = ["mpiexec", "-n", str(ranks), "--bind-to", "core"] + program
         hog = subprocess.Popen(["taskset", "-c", "0", sys.executable, "-c", "while True: pass"])
+    elif layout == "shared":
+        last = str(ranks - 1)
+        pin = f'exec taskset -c "$([ "$OMPI_COMM_WORLD_RANK" = {last} ] && echo 1 || echo 0)" "$@"'
+        command = ["mpiexec", "-n", str(ranks), "--bind-to", "none", "--oversubscribe", "sh", "-c", pin, "sh"] + program
     else:
         command = ["mpiexec", "-n", str(ranks), "--bind-to", "none"] + program
     start = time.time()
@@ -66,14 +75,17 @@ def history(directory):
         return list(csv.DictReader(f))
 
 
-def compare(case, build, out, ranks, settings, threshold, interval, slowed):
+LAYOUTS = {None: "", "hog": " (process 0 shares its core with a busy loop)",
+           "shared": " (all but the last on core 0, the last on core 1)"}
+
+
+def compare(case, build, out, ranks, settings, threshold, interval, layout):
     results = {}
     for label, extra in (("held", []), ("balanced", [f"Parallel/Rebalance Threshold={threshold}"])):
         directory = os.path.join(out, f"{case}-{label}")
-        seconds = run(build, directory, ranks, settings + [f"Parallel/Rebalance Interval={interval}"] + extra, slowed)
+        seconds = run(build, directory, ranks, settings + [f"Parallel/Rebalance Interval={interval}"] + extra, layout)
         results[label] = (seconds, history(directory))
-    print(f"\n{case}: {ranks} processes{' (process 0 shares its core with a busy loop)' if slowed else ''}, "
-          f"threshold {threshold}, every {interval} steps")
+    print(f"\n{case}: {ranks} processes{LAYOUTS[layout]}, threshold {threshold}, every {interval} steps")
     print(f"{'run':>9} {'wall s':>8} {'s/step median':>14} {'imbalance median':>17} {'max':>6} "
           f"{'divided anew':>13} {'particles min-max (last)':>25}")
     for label, (seconds, rows) in results.items():
@@ -116,7 +128,8 @@ def plot(all_results, path):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--case", nargs="+", default=["column", "slowed"], choices=["column", "slowed"])
+    parser.add_argument("--case", nargs="+", default=["column", "slowed"],
+                        choices=["column", "slowed", "shared"])
     parser.add_argument("--ranks", type=int, default=4)
     parser.add_argument("--end-time", type=float, default=20.0)
     parser.add_argument("--slowed-end-time", type=float, default=6.0)
@@ -131,11 +144,15 @@ def main():
     if "column" in args.case:
         all_results[f"settling column, {args.ranks} processes"] = compare(
             "column", args.build, args.out, args.ranks, [f"Run/End Time={args.end_time}"], args.threshold,
-            args.interval, False)
+            args.interval, None)
     if "slowed" in args.case:
         all_results["2 processes, process 0 sharing its core"] = compare(
             "slowed", args.build, args.out, 2, [f"Run/End Time={args.slowed_end_time}"], args.threshold,
-            args.interval, True)
+            args.interval, "hog")
+    if "shared" in args.case:
+        all_results["3 processes, 0 and 1 sharing core 0"] = compare(
+            "shared", args.build, args.out, 3, [f"Run/End Time={args.slowed_end_time}"], args.threshold,
+            args.interval, "shared")
     plot(all_results, args.figure)
 
 
