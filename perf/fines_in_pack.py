@@ -29,7 +29,6 @@ import json
 import math
 import os
 import random
-import time
 
 from poresph_runs import ROOT, run_poresph
 
@@ -68,7 +67,7 @@ def place_fines(count, seed=7):
 def run(build, out, force, fines, end_time, frames, reuse):
     directory = os.path.join(out, f"force_{force:g}")
     if reuse and os.path.exists(os.path.join(directory, "summary.json")):
-        return directory, None
+        return directory
     grains, centres = place_fines(fines)
     values = [v for g in grains for v in g] + [v for c in centres for v in (c[0], c[1], FINE_RADIUS)]
     inline = "{" + ", ".join(f"{v!r}" for v in values) + "}"
@@ -81,9 +80,8 @@ def run(build, out, force, fines, end_time, frames, reuse):
         f"Run/End Time={end_time!r}", "Permeability/Steady Tolerance=0"]
     if frames:
         settings.append(f"Output/Field Interval={end_time / 40!r}")
-    start = time.monotonic()
     run_poresph(build, "problem3/problem3.xml", directory, settings)
-    return directory, time.monotonic() - start
+    return directory
 
 
 def mean_velocity(force):
@@ -177,7 +175,7 @@ def main():
     runs = []
     for force in args.forces:
         end_time = args.traverses * L / mean_velocity(force)
-        directory, seconds = run(args.build, args.out, force, args.fines, end_time, force == args.frames, args.reuse)
+        directory = run(args.build, args.out, force, args.fines, end_time, force == args.frames, args.reuse)
         with open(os.path.join(directory, "summary.json")) as f:
             summary = json.load(f)
         stopped, strained, count, _ = trapped(directory, grains)

@@ -67,11 +67,9 @@ class FieldWriter {
         std::vector<double> out(static_cast<size_t>(n) * 3, 0.0);
         for (int i = 0; i < n; ++i)
           for (int d = 0; d < Dim; ++d) {
-            double value = rows[static_cast<size_t>(i) * Dim + d];
+            const double value = rows[static_cast<size_t>(i) * Dim + d];
             // Positions stay unwrapped between neighbour-list rebuilds: wrap for output.
-            if (wrap && scene_.periodic[d])
-              value -= scene_.cell_size[d] * std::floor(value / scene_.cell_size[d]);
-            out[static_cast<size_t>(i) * 3 + d] = value;
+            out[static_cast<size_t>(i) * 3 + d] = wrap ? wrapped(value, d) : value;
           }
         return out;
       };
@@ -107,6 +105,11 @@ class FieldWriter {
   }
 
  private:
+  // A coordinate along d wrapped into the cell where d is periodic.
+  double wrapped(double value, int d) const {
+    return scene_.periodic[d] ? value - scene_.cell_size[d] * std::floor(value / scene_.cell_size[d]) : value;
+  }
+
   // Grid arrays are stored slowest direction first (z, y, x), as XDMF reads
   // them; a 2D grid is one layer of a 3D one (ParaView's XDMF reader cannot
   // read vectors on a 2D mesh). `fill` is what the missing z takes.
@@ -149,9 +152,7 @@ class FieldWriter {
     for (long long g = 0; g < n; ++g) {
       const auto& b = bodies[g];
       for (int d = 0; d < Dim; ++d) {
-        double c = b.centre[d];
-        if (scene_.periodic[d]) c -= scene_.cell_size[d] * std::floor(c / scene_.cell_size[d]);
-        centre[g * 3 + d] = c;
+        centre[g * 3 + d] = wrapped(b.centre[d], d);
         velocity[g * 3 + d] = b.velocity[d];
         fluid_force[g * 3 + d] = b.fluid_force[d];
         contact_force[g * 3 + d] = b.contact_force[d];
