@@ -4,7 +4,8 @@ its own resolution, once marched to a steady k (Permeability/Steady
 Tolerance = 1e-4 unless --march-tolerance says otherwise) and once solved
 (Solver/Method = steady, the shipped defaults), one process, one thread.
 
-    perf/steady_vs_march.py [--build build] [--out build/steady-vs-march] [--march-from CSV] [SCENE ...]
+    perf/steady_vs_march.py [--build build] [--out build/steady-vs-march] [--march-from CSV]
+                            [--set PATH=VALUE ...] [SCENE ...]
 
 SCENE: paths under input/ (default: every grain, 3D and image scene).
 Writes steady_vs_march.csv and steady_vs_march.md (a table) into --out:
@@ -13,7 +14,8 @@ scene), their largest relative difference, the march's steps and wall
 seconds, the solve's iterations, evaluations and wall seconds. A solve
 that did not converge is listed as such, with the k it stopped at.
 --march-from takes the march's columns from an earlier steady_vs_march.csv
-(the march does not change when the solver does) and runs the solves only."""
+(the march does not change when the solver does) and runs the solves only;
+--set adds settings to the solves (e.g. Solver/Tolerance=1e-4)."""
 import argparse
 import csv
 import os
@@ -60,7 +62,7 @@ def earlier_march(row):
             "wall_seconds": float(row["march_seconds"]), "k_in_order": [float(k) for k in row["k_march"].split()]}
 
 
-def compare(build, scene, out, march_tolerance, marched=None):
+def compare(build, scene, out, march_tolerance, marched=None, solve_settings=()):
     name = scene.replace("/", "_").replace(".xml", "")
     if marched is not None:
         march = marched
@@ -70,7 +72,7 @@ def compare(build, scene, out, march_tolerance, marched=None):
                                       "Run/Max Steps=0"])
     solve_dir = os.path.join(out, name + "_steady")
     try:
-        solve = run_poresph(build, scene, solve_dir, SERIAL + ["Solver/Method=steady"])
+        solve = run_poresph(build, scene, solve_dir, SERIAL + ["Solver/Method=steady"] + list(solve_settings))
     except subprocess.CalledProcessError as error:
         if error.returncode != 4:  # 4: not converged, and the summary says where it stopped
             raise
@@ -113,6 +115,8 @@ def main():
     parser.add_argument("--out", default=os.path.join(ROOT, "build", "steady-vs-march"))
     parser.add_argument("--march-tolerance", type=float, default=1e-4)
     parser.add_argument("--march-from", help="an earlier steady_vs_march.csv: its marches, not run again")
+    parser.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
+                        help="a setting of the solves (repeatable)")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     marches = {}
@@ -123,7 +127,8 @@ def main():
     for scene in args.scenes:
         if args.march_from and scene not in marches:
             sys.exit(f"{scene}: not in {args.march_from}")
-        rows.append(compare(os.path.abspath(args.build), scene, args.out, args.march_tolerance, marches.get(scene)))
+        rows.append(compare(os.path.abspath(args.build), scene, args.out, args.march_tolerance, marches.get(scene),
+                            args.set))
         r = rows[-1]
         print(f"{scene}: difference {r['relative_difference'] * 100:.3f} %, march {r['march_seconds']:.1f} s, "
               f"steady {r['steady_seconds']:.1f} s{'' if r['converged'] else ' (not converged)'}", flush=True)

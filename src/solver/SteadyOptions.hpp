@@ -5,7 +5,7 @@
 namespace poresph {
 
 struct SteadyOptions {
-  double tolerance = 1e-6;         // Solver/Tolerance: on ||F - e (e . F)|| / ||F at rest||
+  double tolerance = 1e-4;         // Solver/Tolerance: on ||F - e (e . F)|| / ||F at rest||
   double linear_tolerance = 1e-8;  // Solver/Linear Tolerance: the least a Newton step's solve is asked for
   int max_nonlinear_iterations = 10;
   int max_linear_iterations = 1000;  // per Newton step
