@@ -263,7 +263,7 @@ void lattice_rows_against_list(int n) {
   PairSums<Space> sums{pair_sum_components<Dim, Space>(P, PairLoopOptions{})};
   sums.reserve(P.owned);
   const FluidProperties fluid{0.1, 0.0};
-  Vec<Dim> force;
+  Vec<Dim> force = Vec<Dim>::zero();
   force[0] = 1.0;
   std::vector<double> rates[2];
   for (int pass = 0; pass < 2; ++pass) {

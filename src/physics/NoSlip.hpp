@@ -170,7 +170,7 @@ class NoSlipFactors {
 
   // Moving grains: their angular velocities (a row a grain, the grain's
   // spin components), which a fluid particle's view of a turning grain's
-  // boundary particle takes (physics/terms/NoSlipTerm.hpp). Empty: none turn.
+  // boundary particle takes (physics/terms/TurningWallTerm.hpp). Empty: none turn.
   void set_grain_spin(const Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>& spin) { grain_spin_ = spin; }
   KOKKOS_INLINE_FUNCTION bool grains_turn() const { return grain_spin_.extent(0) > 0; }
   KOKKOS_INLINE_FUNCTION const double* grain_spin(int grain) const { return &grain_spin_(grain, 0); }

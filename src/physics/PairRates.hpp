@@ -24,6 +24,7 @@
 #include "physics/terms/PressureTerm.hpp"
 #include "physics/terms/ShiftingTerm.hpp"
 #include "physics/terms/SurfaceReactionTerm.hpp"
+#include "physics/terms/TurningWallTerm.hpp"
 #include "physics/terms/ViscousTerm.hpp"
 
 namespace poresph {
@@ -37,8 +38,9 @@ using CorePairTerms =
 // core ones in this order. Every combination whose terms agree on the
 // particles' motion is compiled.
 template <int Dim, class ExecSpace>
-using OptionalPairTerms = PairTermList<NoSlipTerm<Dim, ExecSpace>, ConvectionTerm<Dim, ExecSpace>,
-                                       ShiftingTerm<Dim, ExecSpace>, SurfaceReactionTerm<Dim, ExecSpace>>;
+using OptionalPairTerms =
+    PairTermList<NoSlipTerm<Dim, ExecSpace>, TurningWallTerm<Dim, ExecSpace>, ConvectionTerm<Dim, ExecSpace>,
+                 ShiftingTerm<Dim, ExecSpace>, SurfaceReactionTerm<Dim, ExecSpace>>;
 
 namespace pair_detail {
 

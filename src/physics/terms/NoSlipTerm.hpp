@@ -51,17 +51,6 @@ struct NoSlipTerm : PairTermBase {
                       ? no_slip.factor(entry)
                       : no_slip_factor_seen(P, self.index, other.index, other.kind, g.r, min_surface_distance);
     seen.v = seen.factor * g.v;
-    // A turning grain: the fluid's velocity relative to the grain's rigid
-    // motion is what is continued into it, and the rigid motion itself:
-    // v_aB = factor (v_a - u(x_a)) + u(x_a) - u(x_B), u(x_a) - u(x_B) =
-    // omega x r. (With u(x_B) in the first bracket instead, as for a wall
-    // that does not turn, a grain turning with the fluid around it as one
-    // body would be seen to slip.)
-    if (other.kind == kGrainBoundary && no_slip.grains_turn()) {
-      double turn[Dim];
-      spin_cross<Dim>(no_slip.grain_spin(P.grain(other.index)), g.r.c, turn);
-      for (int d = 0; d < Dim; ++d) seen.v[d] -= (seen.factor - 1.0) * turn[d];
-    }
   }
 
   struct Shared {
