@@ -98,8 +98,8 @@ check(done.returncode == 0 and resumed["solver"]["converged"] and abs(kxx(resume
       f"restart of the capped solve: converged, k {kxx(resumed):.10e}")
 
 # The ladder, the tensor, the linearity check.
-done, ladder, _ = run("steady-ladder", ["Solver/Method=steady", TIGHT, "Convergence/Levels=2", "Permeability/Tensor=true",
-                                        "Permeability/Linearity Check=true"])
+done, ladder, _ = run("steady-ladder", ["Solver/Method=steady", TIGHT, "Convergence/Levels=2",
+                                        "Permeability/Tensor=true", "Permeability/Linearity Check=true"])
 check(done.returncode == 0 and ladder["solver"]["converged"] and len(ladder["convergence"]) == 2
       and "kyy" in ladder["permeability"] and "darcy_linearity" in ladder
       and abs(ladder["permeability"]["kxx"] / ladder["permeability"]["kyy"] - 1) < 1e-6
