@@ -5,8 +5,11 @@
 // inexact inner solves that change from one application to the next.
 #include <Kokkos_Core.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "parallel/Communicator.hpp"
@@ -32,12 +35,13 @@ struct KrylovVectors {
     return comm.sum(local);
   }
   double norm(const View& a) const { return std::sqrt(dot(a, a)); }
-  // y = alpha x + beta y
+  // y = alpha x + beta y; with beta = 0, y is not read (as in BLAS), so
+  // that a vector kept from an earlier solve never carries its old values in.
   void update(double alpha, const View& x, double beta, const View& y) const {
     static const std::string label = "poresph::krylov::update";
     Kokkos::parallel_for(
         label, Kokkos::RangePolicy<ExecSpace>(space, 0, y.extent(0)),
-        KOKKOS_LAMBDA(int i) { y(i) = alpha * x(i) + beta * y(i); });
+        KOKKOS_LAMBDA(int i) { y(i) = beta == 0 ? alpha * x(i) : alpha * x(i) + beta * y(i); });
     space.fence();
   }
   void fill(const View& y, double value) const {
@@ -67,13 +71,44 @@ struct KrylovResult {
   int basis_vectors = 0;  // of V and Z at the end: what the solve held beyond w
 };
 
+// The bases V and Z and the work vector w of fgmres, kept from one solve to
+// the next: the steady solver's inner solves run three times per outer
+// iteration, and bases allocated afresh for each cost a zero fill and the
+// page faults of new memory every time (15 % of problem III's solve at
+// 0.005 L). A solve of n unknowns uses the first n entries of each vector;
+// the vectors are as long as the longest solve asked for so far.
+template <class ExecSpace>
+class KrylovWorkspace {
+ public:
+  using View = typename KrylovVectors<ExecSpace>::View;
+
+  // length: the least length of a vector made, so that solves of several
+  // sizes (the steady solver's density and velocity blocks) share one set.
+  explicit KrylovWorkspace(size_t length = 0) : length_(length) {}
+
+  // Vector j of V (or Z), n long; those beyond the last one asked for are made.
+  View basis(bool z, int j, size_t n) { return take(z ? Z_ : V_, j, n, z ? "fgmres_Z" : "fgmres_V"); }
+  View work(size_t n) { return take(w_, 0, n, "fgmres_w"); }
+  // V and Z vectors held (for the memory report).
+  int basis_vectors() const { return static_cast<int>(V_.size() + Z_.size()); }
+
+ private:
+  View take(std::vector<View>& vectors, int j, size_t n, const char* label) {
+    while (static_cast<int>(vectors.size()) <= j) vectors.push_back(View(std::string(label), std::max(n, length_)));
+    if (vectors[j].extent(0) < n) vectors[j] = View(std::string(label), std::max(n, length_));
+    return View(Kokkos::subview(vectors[j], std::make_pair(size_t(0), n)));
+  }
+  size_t length_ = 0;
+  std::vector<View> V_, Z_, w_;
+};
+
 // Solves A x = b from the x given (right-preconditioned: A M z = b, x = M z).
 // apply(in, out): out = A in; precondition(in, out): out = M in. Neither may
 // keep references to its arguments.
 template <class ExecSpace, class Apply, class Precondition>
 KrylovResult fgmres(const KrylovVectors<ExecSpace>& ops, Apply&& apply, Precondition&& precondition,
                     const typename KrylovVectors<ExecSpace>::View& b, const typename KrylovVectors<ExecSpace>::View& x,
-                    const KrylovOptions& options) {
+                    const KrylovOptions& options, KrylovWorkspace<ExecSpace>& workspace) {
   using View = typename KrylovVectors<ExecSpace>::View;
   KrylovResult result;
   const size_t n = b.extent(0);
@@ -90,22 +125,23 @@ KrylovResult fgmres(const KrylovVectors<ExecSpace>& ops, Apply&& apply, Precondi
   // of 30, whose bases with the inner solves' took 3.4 kB of the 4.1 kB a
   // particle of the simple cubic array at 40 per side).
   std::vector<View> V, Z;
-  auto basis = [&](std::vector<View>& vectors, int j, const char* label) -> const View& {
-    while (static_cast<int>(vectors.size()) <= j) vectors.push_back(ops.make(label, n));
+  auto basis = [&](std::vector<View>& vectors, bool z, int j) -> const View& {
+    while (static_cast<int>(vectors.size()) <= j)
+      vectors.push_back(workspace.basis(z, static_cast<int>(vectors.size()), n));
     return vectors[j];
   };
-  View w = ops.make("fgmres_w", n);
+  const View w = workspace.work(n);
   std::vector<double> H((m + 1) * m), g(m + 1), cs(m), sn(m);
   auto h = [&](int i, int j) -> double& { return H[i * m + j]; };
 
   while (true) {
     // r = b - A x
     apply(x, w);
-    ops.copy(b, basis(V, 0, "fgmres_V"));
+    ops.copy(b, basis(V, false, 0));
     ops.update(-1.0, w, 1.0, V[0]);
     const double beta = ops.norm(V[0]);
     result.relative_residual = beta / norm_b;
-    result.basis_vectors = static_cast<int>(V.size() + Z.size());
+    result.basis_vectors = workspace.basis_vectors();
     if (result.relative_residual <= options.tolerance) {
       result.converged = true;
       return result;
@@ -116,7 +152,7 @@ KrylovResult fgmres(const KrylovVectors<ExecSpace>& ops, Apply&& apply, Precondi
     g[0] = beta;
     int k = 0;
     for (; k < m && result.iterations < options.max_iterations; ++k) {
-      precondition(V[k], basis(Z, k, "fgmres_Z"));
+      precondition(V[k], basis(Z, true, k));
       apply(Z[k], w);
       // Modified Gram-Schmidt.
       for (int i = 0; i <= k; ++i) {
@@ -124,7 +160,7 @@ KrylovResult fgmres(const KrylovVectors<ExecSpace>& ops, Apply&& apply, Precondi
         ops.update(-h(i, k), V[i], 1.0, w);
       }
       h(k + 1, k) = ops.norm(w);
-      if (h(k + 1, k) > 0) ops.update(1.0 / h(k + 1, k), w, 0.0, basis(V, k + 1, "fgmres_V"));
+      if (h(k + 1, k) > 0) ops.update(1.0 / h(k + 1, k), w, 0.0, basis(V, false, k + 1));
       for (int i = 0; i < k; ++i) {
         const double a = h(i, k), c = h(i + 1, k);
         h(i, k) = cs[i] * a + sn[i] * c;
@@ -158,10 +194,19 @@ KrylovResult fgmres(const KrylovVectors<ExecSpace>& ops, Apply&& apply, Precondi
       y[i] = h(i, i) != 0 ? s / h(i, i) : 0.0;
     }
     for (int i = 0; i < k; ++i) ops.update(y[i], Z[i], 1.0, x);
-    result.basis_vectors = static_cast<int>(V.size() + Z.size());
+    result.basis_vectors = workspace.basis_vectors();
     if (result.abandoned) return result;
     // The next cycle starts from the true residual, which also settles convergence.
   }
+}
+
+// The same with bases of its own, for a solve that is not repeated.
+template <class ExecSpace, class Apply, class Precondition>
+KrylovResult fgmres(const KrylovVectors<ExecSpace>& ops, Apply&& apply, Precondition&& precondition,
+                    const typename KrylovVectors<ExecSpace>::View& b, const typename KrylovVectors<ExecSpace>::View& x,
+                    const KrylovOptions& options) {
+  KrylovWorkspace<ExecSpace> workspace;
+  return fgmres(ops, std::forward<Apply>(apply), std::forward<Precondition>(precondition), b, x, options, workspace);
 }
 
 }  // namespace poresph

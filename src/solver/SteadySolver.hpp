@@ -129,7 +129,8 @@ class SteadySolver {
       };
       const auto result = fgmres(
           ops, [&](const View& in, const View& out) { apply_bordered(system, in, out); },
-          [&](const View& in, const View& out) { precondition(system, in, out); }, rhs, step, krylov);
+          [&](const View& in, const View& out) { precondition(system, in, out); }, rhs, step, krylov,
+          outer_workspace_);
       report.linear_iterations += result.iterations;
       outer_basis_ = std::max(outer_basis_, result.basis_vectors);
       if (result.abandoned) {
@@ -300,6 +301,9 @@ class SteadySolver {
     work_v_ = View("steady_work_v", nv), work_v2_ = View("steady_work_v2", nv), work_v3_ = View("steady_work_v3", nv);
     work_q_ = View("steady_work_q", nq), work_q2_ = View("steady_work_q2", nq), work_q3_ = View("steady_work_q3", nq);
     work_q_component_in_ = View("steady_component_in", nq), work_q_component_out_ = View("steady_component_out", nq);
+    // One set of inner bases for the density and velocity blocks' solves,
+    // which never run at once: the velocity block's length.
+    inner_workspace_ = KrylovWorkspace<ExecSpace>(nv);
     // The size of DG (a few power iterations from a smooth start), for the
     // shift that makes it invertible (below).
     const auto& ops = system.vectors();
@@ -487,7 +491,7 @@ class SteadySolver {
           apply_dg(system, in, out);
           ops.update(shift, in, 1.0, out);
         },
-        [&](const View& in, const View& out) { precondition_dg(in, out); }, r, p, krylov);
+        [&](const View& in, const View& out) { precondition_dg(in, out); }, r, p, krylov, inner_workspace_);
     inner_iterations_ += result.iterations;
     inner_basis_ = std::max(inner_basis_, result.basis_vectors);
     add_border(system, -border_dot(system, p), p);  // p - e (e . p): the fluid mean out
@@ -500,7 +504,7 @@ class SteadySolver {
     ops.fill(v, 0.0);
     const auto result = fgmres(
         ops, [&](const View& in, const View& out) { system.apply(&in, nullptr, out, work_q3_, kForward); },
-        [&](const View& in, const View& out) { precondition_velocity(in, out); }, r, v, krylov);
+        [&](const View& in, const View& out) { precondition_velocity(in, out); }, r, v, krylov, inner_workspace_);
     inner_iterations_ += result.iterations;
     inner_basis_ = std::max(inner_basis_, result.basis_vectors);
   }
@@ -543,6 +547,7 @@ class SteadySolver {
   double wide_scale_ = 0, compact_scale_ = 0;
   long long inner_iterations_ = 0;
   int outer_basis_ = 0, inner_basis_ = 0;  // the most vectors a solve's bases held
+  KrylovWorkspace<ExecSpace> outer_workspace_, inner_workspace_;  // bases kept from solve to solve
   View diagonal_inverse_, work_v_, work_v2_, work_v3_, work_q_, work_q2_, work_q3_, work_q_component_in_,
       work_q_component_out_, work_residual_q_;
 };
