@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include "Scenes.hpp"
@@ -108,6 +110,43 @@ TYPED_TEST(SteadySolverTest, ProductsOfOneTermAreTheJacobiansBlocks) {
   system.apply(&w_v, nullptr, part_v, part_q, System::Accuracy::Forward, System::RateTerms::Continuity);
   EXPECT_LT(difference<Space>(part_q, full_q), 1e-6);
   EXPECT_EQ(system.partial_rate_evaluations(), 4) << "each term's rates at the state once, and one per product";
+}
+
+// The pair loop of the pressure term alone reads no velocity and adds no
+// density rate (PairTermBase::reads_velocity, adds_density): with every
+// velocity NaN its accelerations are those with the velocities it had, to
+// the bit, and its density rates zero. A loop that loaded the velocities
+// would carry the NaN in (0 times NaN is NaN).
+TYPED_TEST(SteadySolverTest, PressureLoopReadsNoVelocity) {
+  using Space = TypeParam;
+  using Sim = Simulation<2, Space>;
+  Sim sim(disc_cell(true));
+  auto P = sim.particles();
+  const int owned = P.owned;
+  static const std::string label = "test::uneven_density";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<Space>(0, owned),
+      KOKKOS_LAMBDA(int i) { P.rho(i) *= 1.0 + 0.01 * Kokkos::Experimental::sin(0.7 * i); });
+  Kokkos::fence();
+  sim.compute_rates(Sim::RateTerms::Pressure);
+  auto before = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt);
+  Kokkos::deep_copy(P.v, std::numeric_limits<double>::quiet_NaN());
+  sim.compute_rates(Sim::RateTerms::Pressure);
+  auto after = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt);
+  auto drhodt = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.drhodt);
+  auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
+  int fluid = 0, moved = 0;
+  for (int i = 0; i < owned; ++i) {
+    if (kind(i) != kFluid) continue;
+    ++fluid;
+    for (int d = 0; d < 2; ++d) {
+      ASSERT_EQ(after(i, d), before(i, d)) << "particle " << i;
+      moved += after(i, d) != (d == 0 ? 1e-3 : 0.0);  // beyond the body force: the pressure acted
+    }
+    ASSERT_EQ(drhodt(i), 0.0) << "particle " << i;
+  }
+  EXPECT_GT(fluid, 0);
+  EXPECT_GT(moved, fluid / 2);
 }
 
 // The probed diagonal is J's: the response of a particle's own row to its own velocity.

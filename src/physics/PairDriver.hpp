@@ -160,6 +160,13 @@ struct PairTermBase {
   static constexpr bool fluid_pair_weights = true;     // a pair of fluid particles is weights of r and v
   static constexpr bool surfaces = false;              // brings boundary particles (row_touches_surface)
   static constexpr bool reactions = false;             // boundary ends take reactions (SurfaceReactionTerm)
+  // What the term touches of the shared sums and the ends (true unless it
+  // says otherwise): a loop whose terms add no density rate, no
+  // acceleration, or read no velocity leaves those out (the steady solver's
+  // loops of the pressure term alone and of continuity alone).
+  static constexpr bool adds_density = true;
+  static constexpr bool adds_acceleration = true;
+  static constexpr bool reads_velocity = true;
   template <class Inputs>
   static bool wanted(const Inputs&) { return true; }
   template <int Dim>
@@ -240,6 +247,12 @@ struct PairDriver : Terms... {
   static constexpr bool WithReactions = (Terms::reactions || ...);
   // All terms are weights of r and v for a pair of fluid particles: both its ends at once.
   static constexpr bool FluidPairsAsWeights = (Terms::fluid_pair_weights && ...);
+  // Sums no term adds to are not added (they would add -0.0 or +0.0 to sums
+  // that start at +0.0, which changes no bit), velocities no term reads not
+  // loaded (they stay zero).
+  static constexpr bool AddsDensity = (Terms::adds_density || ...);
+  static constexpr bool AddsAcceleration = (Terms::adds_acceleration || ...);
+  static constexpr bool ReadsVelocity = (Terms::reads_velocity || ...);
   using MemorySpace = typename ExecSpace::memory_space;
   using Sums = PairRateSums<Dim, 1 + Dim + (Terms::components + ... + 0)>;
   template <class Term>
@@ -292,8 +305,23 @@ struct PairDriver : Terms... {
     const bool uniform = uniform_mass > 0;  // two arrays fewer to gather from
     PairEnd<Dim> end{{}, {}, uniform ? uniform_mass : P.m(i), uniform ? uniform_inverse_density : P.inverse_density(i),
                      P.pressure_term(i), kind, i};
-    for (int d = 0; d < Dim; ++d) end.x.c[d] = P.x(i, d), end.v.c[d] = P.v(i, d);
+    for (int d = 0; d < Dim; ++d) {
+      end.x.c[d] = P.x(i, d);
+      if constexpr (ReadsVelocity) end.v.c[d] = P.v(i, d);
+    }
     return end;
+  }
+
+  // Whether component c of the sums is one some term adds to.
+  KOKKOS_FORCEINLINE_FUNCTION static constexpr bool added(int c) {
+    if (c == Sums::density) return AddsDensity;
+    if (c < Sums::terms_begin) return AddsAcceleration;
+    return true;
+  }
+  // Particle i's sums of this pair loop into copy `copy` of the shared ones.
+  KOKKOS_FORCEINLINE_FUNCTION void add_sums(int copy, int i, const Sums& sum) const {
+    for (int c = 0; c < Sums::count; ++c)
+      if (added(c)) sums.add(copy, i, c, sum.value[c]);
   }
 
   // Adds to `sum` what `self` gains from `other`: the terms that act on
@@ -379,14 +407,18 @@ struct PairDriver : Terms... {
         const Vec<Dim> v = end_a.v - end_b.v;
         FluidPairWeights w;
         (static_cast<const Terms&>(*this).add_to_fluid_pair(end_a, end_b, r, v, F, w), ...);
-        sum_a.drho() += w.drho_a;
-        sum_b.drho() += w.drho_b;
-        for (int d = 0; d < Dim; ++d) {
-          sum_a.acceleration(d) += w.r_a * r[d] + w.v_a * v[d];
-          sum_b.acceleration(d) += w.r_b * r[d] + w.v_b * v[d];
+        if constexpr (AddsDensity) {
+          sum_a.drho() += w.drho_a;
+          sum_b.drho() += w.drho_b;
         }
+        if constexpr (AddsAcceleration)
+          for (int d = 0; d < Dim; ++d) {
+            sum_a.acceleration(d) += w.r_a * r[d] + w.v_a * v[d];
+            sum_b.acceleration(d) += w.r_b * r[d] + w.v_b * v[d];
+          }
         // The density and acceleration: a pair of fluid particles adds to no term's own sums.
-        for (int c = Sums::density; c < Sums::acceleration_begin + Dim; ++c) sums.add(copy, b, c, sum_b.value[c]);
+        for (int c = Sums::density; c < Sums::terms_begin; ++c)
+          if (added(c)) sums.add(copy, b, c, sum_b.value[c]);
         return;
       }
     }
@@ -396,7 +428,7 @@ struct PairDriver : Terms... {
     if (b_takes) {
       Sums sum_b;
       add(sum_b, end_b, end_a, EndGeometry<Dim>{-1.0 * r, -1.0 * v, F, -1.0}, entry, shared);
-      for (int c = 0; c < Sums::count; ++c) sums.add(copy, b, c, sum_b.value[c]);
+      add_sums(copy, b, sum_b);
     }
   }
 
@@ -518,7 +550,7 @@ struct PairDriver : Terms... {
       add_pairs<true, Surfaces>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);  // owned neighbours
       add_pairs<false, Surfaces>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));   // ghosts
     }
-    for (int c = 0; c < Sums::count; ++c) sums.add(copy, a, c, sum_a.value[c]);
+    add_sums(copy, a, sum_a);
     sums.release(copy);
   }
 };

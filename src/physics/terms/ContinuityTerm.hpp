@@ -12,6 +12,7 @@ struct ContinuityTerm : PairTermBase {
   static constexpr const char* name = "continuity";
   static constexpr bool optional = false;
   static constexpr bool at_boundary_ends = true;
+  static constexpr bool adds_acceleration = false;
 
   struct Shared {
     double weight;  // F v_ab . r_ab, the same from either end

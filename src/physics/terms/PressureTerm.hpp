@@ -9,6 +9,8 @@ template <int Dim, class ExecSpace>
 struct PressureTerm : PairTermBase {
   static constexpr const char* name = "pressure";
   static constexpr bool optional = false;
+  static constexpr bool adds_density = false;
+  static constexpr bool reads_velocity = false;
 
   struct Shared {
     Vec<Dim> acceleration;  // per unit neighbour mass, as a sees it; b sees minus it
