@@ -156,6 +156,27 @@ TEST(Parameters, SetOverridesKeepTheDeclaredType) {
   EXPECT_EQ(scene.name, "override test");
 }
 
+// The steady solver's outer and inner restarts are set apart: the outer
+// one (a Newton step's GMRES) by Solver/Krylov Restart, the inner solves'
+// by Solver/Inner Krylov Restart.
+TEST(Parameters, OuterAndInnerKrylovRestartsAreApart) {
+  auto list = minimal_scene();
+  validate_parameters(list);
+  const SceneConfig defaults = scene_from_parameters(list);
+  EXPECT_EQ(defaults.solver.restart, 30);
+  EXPECT_EQ(defaults.solver.inner_restart, 30);
+  apply_override(list, "Solver/Krylov Restart=120");
+  apply_override(list, "Solver/Inner Krylov Restart=20");
+  validate_parameters(list);
+  const SceneConfig scene = scene_from_parameters(list);
+  EXPECT_EQ(scene.solver.restart, 120);
+  EXPECT_EQ(scene.solver.inner_restart, 20);
+  auto too_short = minimal_scene();
+  too_short.sublist("Solver").set("Inner Krylov Restart", 1);
+  const auto message = error_of([&] { validate_parameters(too_short); });
+  EXPECT_NE(message.find("Inner Krylov Restart"), std::string::npos) << message;
+}
+
 TEST(Parameters, SetRejectsUnknownPathsAndBadValues) {
   auto list = minimal_scene();
   EXPECT_NE(error_of([&] { apply_override(list, "Fluid/Viscosity=1"); }).find("Fluid/Viscosity"), std::string::npos);

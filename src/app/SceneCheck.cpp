@@ -246,7 +246,7 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   double steady_per_process = 0;
   if (scene.steady_solver) {
     const int restart = std::max(1, scene.solver.restart);
-    const int inner_restart = std::max(1, std::min(restart, scene.solver.max_inner_iterations));
+    const int inner_restart = std::max(1, std::min(scene.solver.inner_restart, scene.solver.max_inner_iterations));
     const double vectors = steady_vector_values(2.0 * restart + 1, 2.0 * inner_restart + 1, D * owned, owned);
     steady_per_process = 8.0 * (vectors + 25.0 * static_cast<double>(e.lattice_points));
     e.bytes_per_process += steady_per_process;
@@ -265,7 +265,7 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
            << human_bytes(grid_per_process * budget.processes_on_machine);
     if (steady_per_process > 0.5 * e.bytes_per_process)
       grid << "; the steady solver's vectors alone need " << human_bytes(steady_per_process * budget.processes_on_machine)
-           << " (Solver/Krylov Restart sets how many it keeps)";
+           << " (Solver/Krylov Restart and Solver/Inner Krylov Restart set how many it keeps)";
     refuse("the run needs about ", e.particles, " particles (lattice ", lattice.str(),
            " at Discretization/Particle Spacing = ", scene.particle_spacing, ") and about ", human_bytes(need),
            " of memory on this machine (", budget.processes_on_machine, " process",

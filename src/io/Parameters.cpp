@@ -358,7 +358,12 @@ RCP<ParameterList> make_valid_parameters() {
           "'steady': outer GMRES iterations per Newton step at most. A solve that does not converge within "
           "them ends with a warning, exit status 4 and its last state in the final checkpoint.",
           int_in(1, 1 << 20));
-    s.set("Krylov Restart", 30, "'steady': GMRES restart length (vectors kept; memory grows with it).",
+    s.set("Krylov Restart", 30,
+          "'steady': restart length of the outer GMRES, the one each Newton step is solved by (vectors kept; "
+          "memory grows with it, as far as the iterations reach).",
+          int_in(2, 1000));
+    s.set("Inner Krylov Restart", 30,
+          "'steady': restart length of the preconditioner's inner GMRES solves (at most Max Inner Iterations).",
           int_in(2, 1000));
     s.set("Inner Tolerance", 1e-2,
           "'steady': relative tolerance of the preconditioner's inner solves (the pressure operator DG and the "

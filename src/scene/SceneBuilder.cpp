@@ -457,6 +457,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.solver.max_nonlinear_iterations = solver.get<int>("Max Nonlinear Iterations");
   scene.solver.max_linear_iterations = solver.get<int>("Max Linear Iterations");
   scene.solver.restart = solver.get<int>("Krylov Restart");
+  scene.solver.inner_restart = solver.get<int>("Inner Krylov Restart");
   scene.solver.inner_tolerance = solver.get<double>("Inner Tolerance");
   scene.solver.max_inner_iterations = solver.get<int>("Max Inner Iterations");
   if (scene.steady_solver) {

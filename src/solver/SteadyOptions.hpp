@@ -9,7 +9,8 @@ struct SteadyOptions {
   double linear_tolerance = 1e-8;  // Solver/Linear Tolerance: the least a Newton step's solve is asked for
   int max_nonlinear_iterations = 10;
   int max_linear_iterations = 1000;  // per Newton step
-  int restart = 30;
+  int restart = 30;        // of the outer GMRES (a Newton step's)
+  int inner_restart = 30;  // of the inner solves (at most max_inner_iterations)
   double inner_tolerance = 1e-2;
   int max_inner_iterations = 100;
 };

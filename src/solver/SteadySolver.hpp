@@ -475,7 +475,7 @@ class SteadySolver {
     KrylovOptions krylov;
     krylov.tolerance = options_.inner_tolerance;
     krylov.max_iterations = options_.max_inner_iterations;
-    krylov.restart = std::min(options_.restart, options_.max_inner_iterations);
+    krylov.restart = std::min(options_.inner_restart, options_.max_inner_iterations);
     return krylov;
   }
 
