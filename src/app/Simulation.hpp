@@ -63,6 +63,7 @@ struct SimulationFailure : std::runtime_error {
 template <int Dim, class ExecSpace>
 class Simulation {
  public:
+  using ExecutionSpace = ExecSpace;
   using MemorySpace = typename ExecSpace::memory_space;
   using ParticleSet = Particles<Dim, MemorySpace>;
 

@@ -63,17 +63,13 @@ KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> viscous_acceleration(double m_b, double nu,
 
 // Two fluids: Morris's term m_b 2 mu_ab v_ab F_ab / (rho_a rho_b), with
 // mu = rho nu of each particle's own phase and mu_ab a mean of mu_a and
-// mu_b, per unit neighbour mass. The arithmetic mean, 2 mu_ab = mu_a + mu_b,
-// is the one-fluid term with nu per particle:
-//   2 mu_ab / (rho_a rho_b) = nu_a / rho_b + nu_b / rho_a.
-KOKKOS_FORCEINLINE_FUNCTION double arithmetic_phase_viscous_weight(double nu_a, double nu_b, double inv_rho_a,
-                                                                   double inv_rho_b, double F_ab) {
-  return (nu_a * inv_rho_b + nu_b * inv_rho_a) * F_ab;
-}
+// mu_b, per unit neighbour mass (physics/terms/PhaseViscousTerm.hpp).
 // The harmonic mean, 2 mu_ab = 4 mu_a mu_b / (mu_a + mu_b), keeps the shear
 // stress continuous across an interface between layers (the flux through a
-// pair in series, as in a finite-volume face); of one fluid (nu_a = nu_b,
-// rho_a = rho_b) it is the one-fluid weight:
+// pair in series, as in a finite-volume face; the arithmetic mean,
+// nu_a / rho_b + nu_b / rho_a, was measured 18 times farther off on the
+// layered channel: docs/method.md); of one fluid (nu_a = nu_b, rho_a =
+// rho_b) it is the one-fluid weight:
 //   2 mu_ab / (rho_a rho_b) = 4 nu_a nu_b / (rho_a nu_a + rho_b nu_b).
 KOKKOS_FORCEINLINE_FUNCTION double harmonic_phase_viscous_weight(double nu_a, double nu_b, double inv_rho_a,
                                                                  double inv_rho_b, double F_ab) {

@@ -326,6 +326,9 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   if (scene.convergence_levels > 1)
     fail("Convergence/Levels > 1 with Phases/Count = 2 is not supported yet: the phases are reported for one "
          "spacing");
+  if (scene.linearity_check)
+    fail("Permeability/Linearity Check with Phases/Count = 2 is not supported yet: the phases are reported for one "
+         "force");
   if (!scene.profile_sample_times.empty())
     fail("Diagnostics/Profile Sample Times compares a channel with the series solution of one fluid: leave it empty "
          "with Phases/Count = 2");
