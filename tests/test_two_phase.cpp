@@ -14,6 +14,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "ErrorOf.hpp"
 #include "MinimalScene.hpp"
@@ -103,6 +104,35 @@ void expect_layered_profile(double ratio, const std::string& tag) {
 TEST(TwoPhase, LayeredChannelAtViscosityRatioTenth) { expect_layered_profile(0.1, "0.1"); }
 TEST(TwoPhase, LayeredChannelAtViscosityRatioOne) { expect_layered_profile(1.0, "1"); }
 TEST(TwoPhase, LayeredChannelAtViscosityRatioTen) { expect_layered_profile(10.0, "10"); }
+
+// Each particle's phase goes into the checkpoint: a march stopped and
+// continued ends as the march in one go, bit for bit.
+std::string file_text(const std::string& tag, const std::string& name) {
+  std::ifstream in(std::filesystem::temp_directory_path() / ("poresph-test-" + tag) / name, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+TEST(TwoPhase, AMarchContinuedFromItsCheckpointIsTheMarchInOneGo) {
+  const std::string scene = "two_phase/layered_poiseuille.xml";
+  const auto steps = [](const std::string& n) {
+    return std::vector<std::string>{"Solver/Method=explicit", "Run/Max Steps=" + n};
+  };
+  const RunReport whole = run_input(scene, steps("400"), "phases-whole");
+  run_input(scene, steps("200"), "phases-parts");
+  const RunReport continued = run_input(scene, steps("400"), "phases-parts", "checkpoint.h5");
+  EXPECT_EQ(continued.restarted_from_step, 200);
+  EXPECT_EQ(continued.steps, 400);
+  const std::string particles = file_text("phases-whole", "particles.csv");
+  EXPECT_GT(particles.size(), 1000u);
+  EXPECT_EQ(particles, file_text("phases-parts", "particles.csv"));
+  ASSERT_EQ(whole.phases.size(), 2u);
+  ASSERT_EQ(continued.phases.size(), 2u);
+  for (int p = 0; p < 2; ++p) {
+    EXPECT_GT(whole.phases[p].superficial_velocity, 0.0);
+    EXPECT_EQ(whole.phases[p].superficial_velocity, continued.phases[p].superficial_velocity);
+  }
+}
 
 // What the phases do not take is refused before any work, naming the parameter.
 std::string refusal(const std::function<void(Teuchos::ParameterList&)>& change) {
