@@ -47,8 +47,8 @@ using OptionalPairTerms =
 // Terms that take the place of another of the lists above (Replaces) where
 // a scene wants them: in the list's order, each only where all before it
 // replace too, so that a chain (two fluids' viscosity, then their walls')
-// compiles as one variant more rather than every subset. Elsewhere no
-// kernel changes.
+// adds one set of kernels per replacement, not one per subset of them.
+// Elsewhere no kernel changes.
 template <int Dim, class ExecSpace>
 using ReplacingPairTerms = PairTermList<PhaseViscousTerm<Dim, ExecSpace>, PhaseNoSlipTerm<Dim, ExecSpace>>;
 
