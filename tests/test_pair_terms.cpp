@@ -58,6 +58,13 @@ TEST(PairTerms, WeightsByHand) {
   EXPECT_DOUBLE_EQ(viscous_weight(0.1, 0.5, 0.25, -2.0), -0.15);  // 0.1 (0.5 + 0.25)(-2)
   const auto visc = viscous_acceleration<2>(3.0, 0.1, 0.5, 0.25, v, -2.0);
   for (int d = 0; d < 2; ++d) EXPECT_EQ(visc[d], (3.0 * viscous_weight(0.1, 0.5, 0.25, -2.0)) * v[d]);
+  // Two fluids: nu_a = 0.1, nu_b = 0.3, 1/rho_a = 0.5, 1/rho_b = 0.25, F = -2.
+  // 4 nu_a nu_b / (rho_a nu_a + rho_b nu_b) F = 0.12 / (0.2 + 1.2) (-2)
+  EXPECT_DOUBLE_EQ(harmonic_phase_viscous_weight(0.1, 0.3, 0.5, 0.25, -2.0), -0.24 / 1.4);
+  // Of one fluid it is the one-fluid weight.
+  EXPECT_DOUBLE_EQ(harmonic_phase_viscous_weight(0.1, 0.1, 0.5, 0.5, -2.0), viscous_weight(0.1, 0.5, 0.5, -2.0));
+  EXPECT_DOUBLE_EQ(harmonic_phase_viscous_weight(0.3, 0.1, 0.25, 0.5, -2.0),
+                   harmonic_phase_viscous_weight(0.1, 0.3, 0.5, 0.25, -2.0));  // the same from either end
   EXPECT_DOUBLE_EQ(convective_weight<2>(0.5, v, r, 4.0), 2.0);  // 0.5 * 4 * (0.5 + 0.5)
   const auto conv = convective_acceleration<2>(0.5, v, Vec<2>{{3.0, -1.0}}, r, 4.0);
   EXPECT_DOUBLE_EQ(conv[0], 6.0);

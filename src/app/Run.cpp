@@ -183,6 +183,21 @@ JsonObject RunReport::to_json() const {
       samples.push_back(JsonObject().add("sample_time", s.requested_time).add("time", s.time).add("error", s.error));
     json.add("profile_error", profile_error).add("profile_samples", samples);
   }
+  if (!phases.empty()) {
+    std::vector<JsonObject> entries;
+    for (size_t p = 0; p < phases.size(); ++p) {
+      const auto& phase = phases[p];
+      JsonObject entry;
+      entry.add("index", static_cast<long long>(p))
+          .add("name", phase.name)
+          .add("saturation", phase.saturation)
+          .add("superficial_velocity", phase.superficial_velocity)
+          .add("axis", std::string(1, "xyz"[phase.axis]));
+      if (phase.has_relative_permeability) entry.add("relative_permeability", phase.relative_permeability);
+      entries.push_back(entry);
+    }
+    json.add("phases", entries);
+  }
   if (has_permeability) {
     const char* axis = "xyz";
     JsonObject k, u;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "diagnostics/ChannelFlow.hpp"
+#include "diagnostics/Observer.hpp"
 #include "scene/SceneConfig.hpp"
 #include "io/Summary.hpp"
 
@@ -72,6 +73,8 @@ struct RunReport {
   bool channel = false;
   double profile_error = 0;
   std::vector<ProfileSample> profile_samples;
+  // Two fluids: each phase's saturation, superficial velocity and k_r (diagnostics/PhaseProbe.hpp).
+  std::vector<PhaseMeasure> phases;
 
   // Porous-media measures (present when the scene is driven by a body force).
   bool has_permeability = false;

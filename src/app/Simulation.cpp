@@ -46,7 +46,11 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
     msg << ") has no finite magnitude";
     throw std::invalid_argument(msg.str());
   }
-  const double nu = scene.kinematic_viscosity;
+  // Two fluids: the least viscous sets the velocity scale, the most viscous
+  // the viscous limit of the time step (one fluid: both are its nu).
+  double nu = scene.kinematic_viscosity, nu_least = nu;
+  for (const auto& phase : scene.phases)
+    nu = std::max(nu, phase.kinematic_viscosity), nu_least = std::min(nu_least, phase.kinematic_viscosity);
   p.length_scale = scene.length_scale > 0 ? scene.length_scale : largest_side;
   // Without a given velocity scale: the larger of the moving walls' speed and
   // the peak of plane Poiseuille flow across the length scale, F L^2 / (8 nu),
@@ -54,7 +58,8 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
   p.velocity_scale = scene.velocity_scale;
   if (p.velocity_scale <= 0) {
     const double wall = std::max(std::abs(scene.lower_wall_velocity), std::abs(scene.upper_wall_velocity));
-    const double poiseuille = nu > 0 ? force_norm * p.length_scale * p.length_scale / (8.0 * nu) : 0.0;
+    const double poiseuille =
+        nu_least > 0 ? force_norm * p.length_scale * p.length_scale / (8.0 * nu_least) : 0.0;
     p.velocity_scale = std::max(wall, poiseuille);
   }
   if (scene.sound_speed > 0) {
@@ -210,8 +215,13 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   health_limits_ = HealthLimits{scene.density, scene.density_variation_limit, 0.25 * h / dt, h / (16 * dt * dt)};
   if (fixed_) make_stencils();
   make_step_stages();
-  // Set before a checkpoint's particles load: they carry their grain.
+  // Set before a checkpoint's particles load: they carry their grain, their phase.
   if (scene.moving_grains()) particles_.keep_grain_index();
+  if (scene.has_phases()) {
+    particles_.keep_phase();
+    for (size_t p = 0; p < scene.phases.size(); ++p)
+      fluid_.phase_kinematic_viscosity[p] = scene.phases[p].kinematic_viscosity;
+  }
   if (start == Start::Empty) return;
 
   {  // the seeds (about 100 bytes a particle in 3D) are gone before the lists are made
@@ -230,9 +240,37 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
         << " boundary particles); refine the spacing or leave the grains room";
     throw std::invalid_argument(msg.str());
   }
+  if (scene.has_phases()) place_phases();
   if (scene.moving_grains()) start_moving_grains();
   compute_rates();
   if (rigid_grains_.moving()) rigid_grains_.take_loads(particles_, comm_);
+}
+
+// Each particle's phase from its lattice point (scene/SceneConfig.hpp,
+// phase_at), once: fixed particles never leave it. A phase that holds no
+// fluid particle would report a saturation of zero as if measured.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::place_phases() {
+  const int owned = particles_.owned;
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
+  auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);
+  auto phase = Kokkos::create_mirror_view(particles_.phase);
+  std::vector<long long> counts(scene_.phases.size(), 0);
+  for (int i = 0; i < owned; ++i) {
+    double at[Dim];
+    for (int d = 0; d < Dim; ++d) at[d] = x(i, d);
+    phase(i) = kind(i) == kFluid ? phase_at(scene_, at) : 0;
+    if (kind(i) == kFluid) ++counts[phase(i)];
+  }
+  Kokkos::deep_copy(particles_.phase, phase);
+  for (size_t p = 1; p < counts.size(); ++p)
+    if (comm_.sum(counts[p]) == 0) {
+      std::ostringstream msg;
+      msg << "Phases/Phase " << p << "/Region Low and Region High: the box holds no fluid particle at "
+          << "Discretization/Particle Spacing = " << scene_.particle_spacing
+          << " (it lies between lattice points, or in a grain or a wall); enlarge it";
+      throw std::invalid_argument(msg.str());
+    }
 }
 
 template <int Dim, class ExecSpace>

@@ -63,6 +63,7 @@ struct SimulationFailure : std::runtime_error {
 template <int Dim, class ExecSpace>
 class Simulation {
  public:
+  using ExecutionSpace = ExecSpace;
   using MemorySpace = typename ExecSpace::memory_space;
   using ParticleSet = Particles<Dim, MemorySpace>;
 
@@ -255,6 +256,7 @@ class Simulation {
   void grains_predict_stage();   // "grains predict": grains to the mid-point, their particles placed
   void grain_loads_stage();      // "grain loads": the fluid's force and torque on them, their accelerations
   void grains_correct_stage();   // "grains correct": the whole step, their particles placed
+  void place_phases();           // at set-up: each particle's phase from its lattice point
   void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity
   void couple_grains();          // the fluid's share of the body force, the loads, the spins in the no-slip
   void place_grains();           // the grains' particles where the grains are, and the solid map with them

@@ -351,6 +351,7 @@ class StageLoop {
     observed.health = health_of(report);
     for (const auto& o : observers_) o->report(observed);
     record_health(report, observed.health);
+    if (!observed.phases.empty()) report.phases = observed.phases;
     if (observed.channel) {
       report.channel = true;
       report.profile_error = observed.profile_error;

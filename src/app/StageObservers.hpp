@@ -8,6 +8,7 @@
 #include "diagnostics/ChannelProbe.hpp"
 #include "diagnostics/HealthWatch.hpp"
 #include "diagnostics/PermeabilityProbe.hpp"
+#include "diagnostics/PhaseProbe.hpp"
 #include "diagnostics/StageSetting.hpp"
 #include "io/BalanceHistory.hpp"
 #include "io/Checkpoints.hpp"
@@ -21,7 +22,7 @@ namespace poresph {
 template <int Dim, class Sim>
 const std::vector<ObserverMaker<Sim>>& stage_observers() {
   static const std::vector<ObserverMaker<Sim>> makers = {
-      &ChannelProbe<Sim>::make,  &HealthWatch<Sim>::make, &PermeabilityProbe<Dim, Sim>::make,
+      &ChannelProbe<Sim>::make,  &HealthWatch<Sim>::make, &PermeabilityProbe<Dim, Sim>::make, &PhaseProbe<Sim>::make,
       &FieldFrames<Dim, Sim>::make, &Checkpoints<Sim>::make, &ProgressObserver<Sim>::make,
       &SurfaceForcesFile<Dim, Sim>::make, &GrainsHistory<Dim, Sim>::make, &BalanceHistory<Sim>::make,
   };

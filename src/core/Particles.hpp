@@ -21,6 +21,9 @@ enum ParticleKind : int {
   kSampledBoundary = 3,
 };
 
+// The most fluid phases a scene may have (Particles::phase).
+constexpr int kMaxPhases = 2;
+
 template <int Dim, class MemorySpace>
 struct Particles {
   using Vector = Kokkos::View<double* [Dim], MemorySpace>;
@@ -57,6 +60,9 @@ struct Particles {
   // Moving grains (physics/RigidGrains.hpp): the grain a boundary particle
   // belongs to, -1 for the others; empty when the grains hold still.
   Kokkos::View<int*, MemorySpace> grain;
+  // Two fluids (scene/SceneConfig.hpp, phases): each particle's phase, set
+  // once on the fixed lattice; empty in a scene of one fluid.
+  Kokkos::View<int*, MemorySpace> phase;
 
   int owned = 0;
   int ghosts = 0;
@@ -65,6 +71,7 @@ struct Particles {
   bool has_level_start = false;
   bool fixed_positions = false;  // fix_positions()
   bool has_grain_index = false;  // keep_grain_index()
+  bool has_phase = false;        // keep_phase()
 
   int total() const { return owned + ghosts; }
 
@@ -79,6 +86,7 @@ struct Particles {
     if (has_surfaces && !has_grain_index) f(wall_vector);  // else a changing field
     if (has_surfaces) f(wall_scalar);
     if (has_grain_index) f(grain);
+    if (has_phase) f(phase);
   }
   // What changes between neighbour-list rebuilds (ghost refresh): with
   // moving grains, a boundary particle's offset from its turning grain's centre too.
@@ -104,6 +112,12 @@ struct Particles {
   void keep_grain_index() {
     has_grain_index = true;
     if (static_cast<int>(grain.extent(0)) < capacity()) grain = Kokkos::View<int*, MemorySpace>("grain", capacity());
+  }
+
+  // From now on each particle carries its phase (`phase`, 0 until set).
+  void keep_phase() {
+    has_phase = true;
+    if (static_cast<int>(phase.extent(0)) < capacity()) phase = Kokkos::View<int*, MemorySpace>("phase", capacity());
   }
 
   // From now on the particles carry their level start (v_level_start, p_level_start).
@@ -153,6 +167,7 @@ struct Particles {
     f(kind, "kind"), f(id, "id");
     if (has_surfaces) f(wall_vector, "wall_vector"), f(wall_scalar, "wall_scalar");
     if (has_grain_index) f(grain, "grain");
+    if (has_phase) f(phase, "phase");
     // Owned, but the ghost slots are scratch for the level's start's own ghosts (Simulation::warm_start).
     if (has_level_start) f(v_level_start, "v_level_start"), f(p_level_start, "p_level_start");
     if (!owned_fields) return;

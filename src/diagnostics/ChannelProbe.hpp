@@ -66,11 +66,12 @@ class ChannelProbe : public Observer<Sim> {
   }
 
   // A channel's stage on the scene's own force, marched: a steady solve has
-  // no start-up flow to compare (it reports k). Only the finest level's
-  // profiles go into the summary.
+  // no start-up flow to compare (it reports k), and the series is of one
+  // fluid (two: PhaseProbe). Only the finest level's profiles go into the summary.
   static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
     const SceneConfig& scene = s.scene;
-    if (scene.walls != WallType::Channel || s.stage_axis > 0 || scene.steady_solver) return nullptr;
+    if (scene.walls != WallType::Channel || s.stage_axis > 0 || scene.steady_solver || scene.has_phases())
+      return nullptr;
     auto probe = std::make_unique<ChannelProbe>(
         s.sim, ChannelFlow{scene.cell_size[1], scene.kinematic_viscosity, scene.body_force[0],
                            scene.lower_wall_velocity, scene.upper_wall_velocity},

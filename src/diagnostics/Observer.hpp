@@ -35,6 +35,20 @@ struct HealthRecord {
   }
 };
 
+// One fluid phase's volume and its volume flux along an axis (m^Dim, m^(Dim+1)/s).
+struct PhaseSums {
+  double volume = 0, flux = 0;
+};
+// What a run measured of one fluid phase (diagnostics/PhaseProbe.hpp).
+struct PhaseMeasure {
+  std::string name;
+  int axis = 0;                      // of the superficial velocity
+  double saturation = 0;             // its share of the fluid volume
+  double superficial_velocity = 0;   // its volume flux over the cell's volume (m/s)
+  bool has_relative_permeability = false;
+  double relative_permeability = 0;  // with Phases/Single Phase Permeability
+};
+
 // What a stage's observers measured, however the stage ended: what each
 // reports of itself (Observer::report), for the stage's record and summary.json.
 struct StageObservations {
@@ -48,6 +62,8 @@ struct StageObservations {
   double k[3] = {0, 0, 0}, u[3] = {0, 0, 0};  // k_i = nu <u_i> / |F|, and the superficial velocity
   bool steady = false;
   double relative_change = 0, remaining_change = 0;
+  // Two fluids: each phase at the end of the stage (empty: one fluid, or not measured).
+  std::vector<PhaseMeasure> phases;
 };
 
 // Where a run stands, for the progress line (io/ProgressLine.hpp).

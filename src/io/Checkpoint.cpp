@@ -87,6 +87,15 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
     entries.emplace_back("Grains/Contact (Young Modulus, Poisson Ratio, Restitution, Friction, Cutoff Spacings)",
                          list(contact, 5));
   }
+  // Two fluids: the second phase's viscosity and box (named only with
+  // phases: the checkpoints of one-fluid runs still match).
+  if (scene.has_phases()) {
+    const PhaseConfig& second = scene.phases[1];
+    entries.emplace_back("Phases/Count", std::to_string(scene.phases.size()));
+    entries.emplace_back("Phases/Phase 1/Kinematic Viscosity", number(second.kinematic_viscosity));
+    entries.emplace_back("Phases/Phase 1/Region Low", list(second.region_low.data(), D));
+    entries.emplace_back("Phases/Phase 1/Region High", list(second.region_high.data(), D));
+  }
   // The image by its shape, voxel size, solid values and a checksum of its
   // voxels (after Image/Mirror): another image, or the same read otherwise,
   // is another solid.

@@ -148,6 +148,39 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Upper Velocity", 0.0, "x velocity of the wall at y = L_y (m/s).", real_in(-kHuge, kHuge));
   }
   {
+    auto& s = list->sublist("Phases", false,
+                            "Two immiscible fluids on fixed particles (Discretization/Particle Motion = fixed): phase "
+                            "0 is the Fluid sublist's fluid and fills the cell but for the region of phase 1, which "
+                            "is set once at the start (a particle never changes phase). The viscous term between "
+                            "two particles takes the harmonic mean of their dynamic viscosities, which keeps the "
+                            "shear stress continuous across an interface (docs/method.md). No surface tension yet: "
+                            "the two fluids meet without one.");
+    s.set("Count", 1,
+          "Number of fluid phases: 1 (the Fluid sublist's alone; the rest of this sublist must be left out) or 2.",
+          int_in(1, 2));
+    s.set("Single Phase Permeability", 0.0,
+          "The cell's single-phase permeability k (m^2), e.g. from a run without Phases: with it summary.json "
+          "reports each phase's relative permeability k_r = (superficial velocity x dynamic viscosity / (density "
+          "x |body force|)) / k. 0: no k_r.",
+          real_in(0.0, kHuge));
+    auto& p = s.sublist("Phase 1", false, "The second fluid and the box it fills (with Count = 2).");
+    p.set("Name", std::string("phase 1"), "Name of the phase in summary.json (phase 0 is 'fluid').");
+    p.set("Density", 0.0,
+          "Reference density of the phase (kg/m^3). 0: Fluid/Density. Only a density ratio of 1 is supported "
+          "for now: any other value is refused.",
+          real_in(0.0, kHuge));
+    p.set("Kinematic Viscosity", 0.0,
+          "REQUIRED with Count = 2. Kinematic viscosity nu of the phase (m^2/s), > 0; its dynamic viscosity is "
+          "its density times nu.",
+          real_in(0.0, kHuge));
+    p.set("Region Low", Array<double>(),
+          "REQUIRED with Count = 2. Lower corner of the axis-aligned box [low, high) the phase fills, one value "
+          "per direction, inside the cell: a particle whose lattice point lies in the box is of this phase.",
+          reals_in(-kHuge, kHuge));
+    p.set("Region High", Array<double>(), "REQUIRED with Count = 2. Upper corner of the box (see Region Low).",
+          reals_in(-kHuge, kHuge));
+  }
+  {
     auto& s = list->sublist("Grains", false, "Soil grains: circles in 2D, spheres in 3D. They may cross the periodic "
                                              "boundary and then act on both sides.");
     s.set("File", std::string(""),

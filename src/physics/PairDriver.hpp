@@ -45,6 +45,10 @@ struct FluidProperties {
   // wall's kappa u_w (a rate like the others). With it d_a needs no bound of
   // sqrt(3)/4 dx against a stiff kappa: fixed particles use it.
   bool separate_wall_drag = false;
+  // Two fluids (Particles::phase): each phase's kinematic viscosity, which
+  // the phases' terms take instead of kinematic_viscosity
+  // (physics/terms/PhaseViscousTerm.hpp).
+  double phase_kinematic_viscosity[kMaxPhases] = {};
 };
 
 // What a scene adds to the terms every pair has.

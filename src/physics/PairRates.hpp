@@ -5,11 +5,12 @@
 // scene pays only for what it uses.
 //
 // A new term is one file in physics/terms/ and one entry in
-// CorePairTerms or OptionalPairTerms below (docs/code.md).
+// CorePairTerms, OptionalPairTerms or ReplacingPairTerms below (docs/code.md).
 #include <Kokkos_Core.hpp>
 
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "core/Kernel.hpp"
 #include "core/NeighbourList.hpp"
@@ -21,6 +22,7 @@
 #include "physics/terms/ContinuityTerm.hpp"
 #include "physics/terms/ConvectionTerm.hpp"
 #include "physics/terms/NoSlipTerm.hpp"
+#include "physics/terms/PhaseViscousTerm.hpp"
 #include "physics/terms/PressureTerm.hpp"
 #include "physics/terms/ShiftingTerm.hpp"
 #include "physics/terms/SurfaceReactionTerm.hpp"
@@ -42,7 +44,24 @@ using OptionalPairTerms =
     PairTermList<NoSlipTerm<Dim, ExecSpace>, TurningWallTerm<Dim, ExecSpace>, ConvectionTerm<Dim, ExecSpace>,
                  ShiftingTerm<Dim, ExecSpace>, SurfaceReactionTerm<Dim, ExecSpace>>;
 
+// Terms that take the place of another of the lists above (Replaces) where
+// a scene wants them: in the list's order, each only where all before it
+// replace too, so that a chain (two fluids' viscosity, then their walls')
+// adds one set of kernels per replacement, not one per subset of them.
+// Elsewhere no kernel changes.
+template <int Dim, class ExecSpace>
+using ReplacingPairTerms = PairTermList<PhaseViscousTerm<Dim, ExecSpace>, PhaseNoSlipTerm<Dim, ExecSpace>>;
+
 namespace pair_detail {
+
+// List with New in the place of New::Replaces (unchanged if not there).
+template <class List, class New>
+struct Replaced;
+template <class... Terms, class New>
+struct Replaced<PairTermList<Terms...>, New> {
+  using type =
+      PairTermList<std::conditional_t<std::is_same_v<Terms, typename New::Replaces>, New, Terms>...>;
+};
 
 // Calls f(PairTermList<chosen...>{}) with the terms of Chosen and those of
 // Optional that the inputs want; a wanted term whose motion disagrees with
@@ -71,6 +90,27 @@ struct ChooseTerms<PairTermList<Chosen...>, PairTermList<Next, Rest...>> {
   }
 };
 
+// ChooseTerms over Core and Optional with the replacements of Replacing
+// that the inputs want made, up to the first one they do not.
+template <class Core, class Optional, class Replacing>
+struct ChooseReplacements;
+template <class Core, class Optional>
+struct ChooseReplacements<Core, Optional, PairTermList<>> {
+  template <class Inputs, class F>
+  static void run(const Inputs& in, F&& f) {
+    ChooseTerms<Core, Optional>::run(in, f);
+  }
+};
+template <class Core, class Optional, class Next, class... Rest>
+struct ChooseReplacements<Core, Optional, PairTermList<Next, Rest...>> {
+  template <class Inputs, class F>
+  static void run(const Inputs& in, F&& f) {
+    if (!Next::wanted(in)) return ChooseTerms<Core, Optional>::run(in, f);
+    ChooseReplacements<typename Replaced<Core, Next>::type, typename Replaced<Optional, Next>::type,
+                       PairTermList<Rest...>>::run(in, f);
+  }
+};
+
 template <int Dim, class ExecSpace, class... Terms>
 constexpr int sums_of(PairTermList<Terms...>) {
   return PairDriver<Dim, ExecSpace, Terms...>::Sums::count;
@@ -78,7 +118,8 @@ constexpr int sums_of(PairTermList<Terms...>) {
 
 template <int Dim, class ExecSpace, class F>
 void with_scene_terms(const PairTermInputs<Dim, ExecSpace>& in, F&& f) {
-  ChooseTerms<CorePairTerms<Dim, ExecSpace>, OptionalPairTerms<Dim, ExecSpace>>::run(in, f);
+  ChooseReplacements<CorePairTerms<Dim, ExecSpace>, OptionalPairTerms<Dim, ExecSpace>,
+                     ReplacingPairTerms<Dim, ExecSpace>>::run(in, f);
 }
 
 }  // namespace pair_detail

@@ -262,6 +262,83 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   }
 }
 
+// The Phases sublist, after everything else is read (it depends on the
+// cell, the fluid, the particles' motion and what is measured). Two
+// fluids on fixed particles, phase 1 in its box; what this slice of the
+// feature does not handle is refused rather than run wrongly.
+void read_phases(const ParameterList& list, SceneConfig& scene) {
+  auto fail = [](const std::string& msg) { throw ParameterError(msg); };
+  const auto& phases = list.sublist("Phases");
+  const int count = phases.get<int>("Count");
+  const auto& second = phases.sublist("Phase 1");
+  const double nu = second.get<double>("Kinematic Viscosity"), density = second.get<double>("Density");
+  const auto low = second.get<Array<double>>("Region Low"), high = second.get<Array<double>>("Region High");
+  const double k = phases.get<double>("Single Phase Permeability");
+  if (count == 1) {
+    if (nu != 0 || density != 0 || !low.empty() || !high.empty() || second.get<std::string>("Name") != "phase 1")
+      fail("Phases/Phase 1 is given, but Phases/Count = 1 (the Fluid sublist's fluid alone): set Phases/Count = 2, "
+           "or leave Phases/Phase 1 out");
+    if (k != 0)
+      fail("Phases/Single Phase Permeability gives the relative permeabilities of two phases, and Phases/Count = 1");
+    return;
+  }
+  const int dim = scene.dimension;
+  if (scene.particle_motion != ParticleMotion::Fixed)
+    fail("Phases/Count = 2 needs Discretization/Particle Motion = fixed: a particle's phase is set once on the "
+         "fixed lattice; phases on moving particles are not supported yet");
+  if (!(scene.kinematic_viscosity > 0))
+    fail("Fluid/Kinematic Viscosity must be positive with Phases/Count = 2 (it is phase 0's viscosity)");
+  if (!(nu > 0)) fail("Phases/Phase 1/Kinematic Viscosity must be positive (m^2/s): it is required with Phases/Count = 2");
+  if (density != 0 && density != scene.density) {
+    std::ostringstream msg;
+    msg << std::setprecision(10) << "Phases/Phase 1/Density = " << density << " differs from Fluid/Density = "
+        << scene.density << ": only a density ratio of 1 is supported for now (leave it 0, or give Fluid/Density)";
+    fail(msg.str());
+  }
+  for (const auto& [corner, values] : {std::pair<const char*, const Array<double>&>{"Region Low", low},
+                                       std::pair<const char*, const Array<double>&>{"Region High", high}})
+    if (static_cast<int>(values.size()) != dim)
+      fail(std::string("Phases/Phase 1/") + corner + " must have one value per direction (" + std::to_string(dim) +
+           "), got " + std::to_string(values.size()) + ": it is required with Phases/Count = 2");
+  PhaseConfig outside, inside;
+  outside.name = "fluid";
+  outside.density = scene.density;
+  outside.kinematic_viscosity = scene.kinematic_viscosity;
+  inside.name = second.get<std::string>("Name");
+  inside.density = scene.density;
+  inside.kinematic_viscosity = nu;
+  for (int d = 0; d < dim; ++d) {
+    const double L = scene.cell_size[d];
+    if (!(low[d] < high[d]))
+      fail("Phases/Phase 1/Region Low must lie below Region High in every direction (direction " +
+           std::to_string(d) + " is empty)");
+    if (low[d] < 0 || high[d] > L) {
+      std::ostringstream msg;
+      msg << std::setprecision(10) << "Phases/Phase 1/Region Low and Region High: the box [" << low[d] << ", "
+          << high[d] << ") in direction " << d << " reaches outside the cell [0, " << L << ")";
+      fail(msg.str());
+    }
+    inside.region_low[d] = low[d], inside.region_high[d] = high[d];
+  }
+  if (scene.permeability_tensor)
+    fail("Permeability/Tensor with Phases/Count = 2 is not supported: the phases report their flux along the one "
+         "driven axis");
+  if (scene.convergence_levels > 1)
+    fail("Convergence/Levels > 1 with Phases/Count = 2 is not supported yet: the phases are reported for one "
+         "spacing");
+  if (scene.linearity_check)
+    fail("Permeability/Linearity Check with Phases/Count = 2 is not supported yet: the phases are reported for one "
+         "force");
+  if (!scene.profile_sample_times.empty())
+    fail("Diagnostics/Profile Sample Times compares a channel with the series solution of one fluid: leave it empty "
+         "with Phases/Count = 2");
+  if (k > 0 && !(body_force_magnitude(scene) > 0))
+    fail("Phases/Single Phase Permeability gives relative permeabilities, which need the driving force: "
+         "Fluid/Body Force is zero");
+  scene.phases = {outside, inside};
+  scene.single_phase_permeability = k;
+}
+
 }  // namespace
 
 SceneConfig scene_from_parameters(const ParameterList& list, const std::string& scene_directory) {
@@ -504,6 +581,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   if (!scene.profile_sample_times.empty() && scene.walls != WallType::Channel)
     fail("Diagnostics/Profile Sample Times compares a channel's velocity profile with its series solution, and this "
          "scene has no channel (Walls/Type = channel): leave it empty");
+  read_phases(list, scene);
   return scene;
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/Particles.hpp"  // kMaxPhases
 #include "geometry/VoxelImage.hpp"
 #include "solver/SteadyOptions.hpp"
 
@@ -53,6 +54,17 @@ struct ImageConfig {
   // Per axis the image is driven along: the width (m) its widest pore path
   // that way narrows to, from the distance field (0: not driven that way).
   std::array<double, 3> bottleneck{};
+};
+
+// A fluid phase besides the Fluid sublist's (the Phases sublist). Phase 0
+// is that fluid and fills whatever no other phase's region claims; phase p
+// >= 1 fills its box [region_low, region_high), set once on the fixed
+// lattice (particles never change phase: they never move).
+struct PhaseConfig {
+  std::string name;
+  double density = 0;              // kg/m^3
+  double kinematic_viscosity = 0;  // m^2/s
+  std::array<double, 3> region_low{}, region_high{};  // phase 0: unused
 };
 
 enum class ProgressMode { Auto, Always, Never };
@@ -132,6 +144,12 @@ struct SceneConfig {
   // What the checks of the input found worth saying but not refusing (narrow throats).
   std::vector<std::string> warnings;
 
+  // Two fluids: phases[0] is the Fluid sublist's, phases[1] fills its
+  // region. Empty: one fluid, and none of the phases' machinery runs.
+  std::vector<PhaseConfig> phases;
+  double single_phase_permeability = 0;  // Phases/Single Phase Permeability (m^2); 0: not given, no k_r
+  bool has_phases() const { return !phases.empty(); }
+
   WallType walls = WallType::None;
   double lower_wall_velocity = 0.0;  // along x
   double upper_wall_velocity = 0.0;
@@ -181,6 +199,19 @@ struct SceneConfig {
   bool steady_solver = false;
   SteadyOptions solver;
 };
+
+// The phase of a particle at x (in the cell): the last phase whose region
+// holds x, phase 0 where none does.
+inline int phase_at(const SceneConfig& scene, const double* x) {
+  int phase = 0;
+  for (int p = 1; p < static_cast<int>(scene.phases.size()); ++p) {
+    bool inside = true;
+    for (int d = 0; d < scene.dimension; ++d)
+      inside = inside && x[d] >= scene.phases[p].region_low[d] && x[d] < scene.phases[p].region_high[d];
+    if (inside) phase = p;
+  }
+  return phase;
+}
 
 // |F|, the body force's magnitude.
 inline double body_force_magnitude(const SceneConfig& scene) {

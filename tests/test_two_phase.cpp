@@ -1,0 +1,189 @@
+// Two fluids on fixed particles (the Phases sublist): the layered channel
+// (input/two_phase/layered_poiseuille.xml, solved for its steady state)
+// against the piecewise-parabolic solution (diagnostics/LayeredChannel.hpp)
+// at viscosity ratios 0.1, 1 and 10, its phases' saturations and relative
+// permeabilities against their closed forms; and the refusals of input the
+// phases do not take.
+#include <gtest/gtest.h>
+
+#include <Teuchos_Array.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ErrorOf.hpp"
+#include "MinimalScene.hpp"
+#include "RunInput.hpp"
+#include "diagnostics/LayeredChannel.hpp"
+#include "io/Parameters.hpp"
+#include "scene/SceneBuilder.hpp"
+
+namespace poresph {
+namespace {
+
+using testing::array;
+using testing::run_input;
+
+TEST(LayeredChannel, OneViscosityIsPlanePoiseuille) {
+  // mu_A = mu_B: u = G y (H - y) / (2 mu), each half holds half the flux.
+  const LayeredChannel c{2.0, 1.0, 0.5, 0.5, 3.0};
+  EXPECT_DOUBLE_EQ(c.zero_stress(), 1.0);
+  EXPECT_DOUBLE_EQ(c.velocity(0.5), 3.0 * 0.5 * 1.5 / 1.0);
+  EXPECT_DOUBLE_EQ(c.velocity(1.5), 3.0 * 1.5 * 0.5 / 1.0);
+  EXPECT_DOUBLE_EQ(c.lower_relative_permeability(), 0.5);
+  EXPECT_DOUBLE_EQ(c.upper_relative_permeability(), 0.5);
+}
+
+TEST(LayeredChannel, StressAndVelocityAreContinuousAtTheInterface) {
+  const LayeredChannel c{1.0, 0.3, 1.0, 7.0, 2.0};
+  const double a = 0.3, e = 1e-7;
+  EXPECT_NEAR(c.velocity(a - e), c.velocity(a), 1e-6 * c.peak());
+  // mu u' from either side: G (y0 - a).
+  const double lower = 1.0 * (c.velocity(a) - c.velocity(a - e)) / e;
+  const double upper = 7.0 * (c.velocity(a + e) - c.velocity(a)) / e;
+  EXPECT_NEAR(lower, 2.0 * (c.zero_stress() - a), 1e-5);
+  EXPECT_NEAR(upper, 2.0 * (c.zero_stress() - a), 1e-5);
+  EXPECT_DOUBLE_EQ(c.velocity(0.0), 0.0);
+  EXPECT_NEAR(c.velocity(1.0), 0.0, 1e-15);
+}
+
+// The layered scene at phase 1's viscosity ratio: each fluid particle of
+// particles.csv against the solution, max |v_x - u| / u_max, and the
+// summary's phases against the closed forms.
+void expect_layered_profile(double ratio, const std::string& tag) {
+  const double H = 1e-3, nu = 1e-6, rho = 1000, F = 2e-4;
+  std::ostringstream nu_b;
+  nu_b.precision(17);
+  nu_b << ratio * nu;
+  const RunReport report = run_input("two_phase/layered_poiseuille.xml",
+                                     {"Phases/Phase 1/Kinematic Viscosity=" + nu_b.str()}, "layered-" + tag);
+  ASSERT_EQ(report.stopped_by, "steady_state");
+  EXPECT_TRUE(report.solver.converged);
+  const LayeredChannel exact{H, 0.5 * H, rho * nu, rho * ratio * nu, rho * F};
+  const auto csv = std::filesystem::temp_directory_path() / ("poresph-test-layered-" + tag) / "particles.csv";
+  std::ifstream in(csv);
+  ASSERT_TRUE(in) << csv;
+  std::string line;
+  std::getline(in, line);
+  ASSERT_EQ(line, "id,kind,x,y,vx,vy,rho,p");
+  double worst = 0;
+  int fluid = 0;
+  while (std::getline(in, line)) {
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream row(line);
+    double id, kind, x, y, vx;
+    row >> id >> kind >> x >> y >> vx;
+    if (kind != 0) continue;
+    ++fluid;
+    worst = std::max(worst, std::abs(vx - exact.velocity(y)) / exact.peak());
+  }
+  EXPECT_EQ(fluid, report.fluid_particles);
+  EXPECT_LT(worst, 0.01) << "viscosity ratio " << ratio;
+  EXPECT_GT(worst, 0.0);  // measured, not a copy of the solution
+  std::printf("viscosity ratio %g: max |v_x - u| / u_max = %.3e\n", ratio, worst);
+
+  ASSERT_EQ(report.phases.size(), 2u);
+  const double expected_kr[2] = {exact.lower_relative_permeability(), exact.upper_relative_permeability()};
+  for (int p = 0; p < 2; ++p) {
+    const auto& phase = report.phases[p];
+    EXPECT_DOUBLE_EQ(phase.saturation, 0.5);  // 20 of the 40 rows each
+    EXPECT_EQ(phase.axis, 0);
+    ASSERT_TRUE(phase.has_relative_permeability);
+    EXPECT_NEAR(phase.relative_permeability / expected_kr[p], 1.0, 0.01)
+        << "phase " << p << " at viscosity ratio " << ratio;
+    std::printf("  phase %d: k_r = %.5f, closed form %.5f\n", p, phase.relative_permeability, expected_kr[p]);
+  }
+  EXPECT_EQ(report.phases[1].name, "upper");
+}
+
+TEST(TwoPhase, LayeredChannelAtViscosityRatioTenth) { expect_layered_profile(0.1, "0.1"); }
+TEST(TwoPhase, LayeredChannelAtViscosityRatioOne) { expect_layered_profile(1.0, "1"); }
+TEST(TwoPhase, LayeredChannelAtViscosityRatioTen) { expect_layered_profile(10.0, "10"); }
+
+// Each particle's phase goes into the checkpoint: a march stopped and
+// continued ends as the march in one go, bit for bit.
+std::string file_text(const std::string& tag, const std::string& name) {
+  std::ifstream in(std::filesystem::temp_directory_path() / ("poresph-test-" + tag) / name, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+TEST(TwoPhase, AMarchContinuedFromItsCheckpointIsTheMarchInOneGo) {
+  const std::string scene = "two_phase/layered_poiseuille.xml";
+  const auto steps = [](const std::string& n) {
+    return std::vector<std::string>{"Solver/Method=explicit", "Run/Max Steps=" + n};
+  };
+  const RunReport whole = run_input(scene, steps("400"), "phases-whole");
+  run_input(scene, steps("200"), "phases-parts");
+  const RunReport continued = run_input(scene, steps("400"), "phases-parts", "checkpoint.h5");
+  EXPECT_EQ(continued.restarted_from_step, 200);
+  EXPECT_EQ(continued.steps, 400);
+  const std::string particles = file_text("phases-whole", "particles.csv");
+  EXPECT_GT(particles.size(), 1000u);
+  EXPECT_EQ(particles, file_text("phases-parts", "particles.csv"));
+  ASSERT_EQ(whole.phases.size(), 2u);
+  ASSERT_EQ(continued.phases.size(), 2u);
+  for (int p = 0; p < 2; ++p) {
+    EXPECT_GT(whole.phases[p].superficial_velocity, 0.0);
+    EXPECT_EQ(whole.phases[p].superficial_velocity, continued.phases[p].superficial_velocity);
+  }
+}
+
+// What the phases do not take is refused before any work, naming the parameter.
+std::string refusal(const std::function<void(Teuchos::ParameterList&)>& change) {
+  auto list = testing::minimal_scene();
+  auto& phases = list.sublist("Phases");
+  phases.set("Count", 2);
+  auto& second = phases.sublist("Phase 1");
+  second.set("Kinematic Viscosity", 1e-3);
+  second.set("Region Low", array<double>({0.0, 0.5}));
+  second.set("Region High", array<double>({1.0, 1.0}));
+  change(list);
+  return testing::error_of<ParameterError>([&] {
+    validate_parameters(list);
+    scene_from_parameters(list, "");
+  });
+}
+
+TEST(TwoPhase, BadInputIsRefusedByName) {
+  EXPECT_EQ(refusal([](auto&) {}), "");  // the scene the others change is taken
+  const auto has = [](const std::string& message, const std::string& part) {
+    return message.find(part) != std::string::npos;
+  };
+  auto m = refusal([](auto& l) { l.sublist("Phases").set("Count", 3); });
+  EXPECT_TRUE(has(m, "Phases/Count")) << m;
+  m = refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Kinematic Viscosity", 0.0); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Kinematic Viscosity must be positive")) << m;
+  m = refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Region High", array<double>({1.0, 1.5})); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Region Low and Region High")) << m;
+  EXPECT_TRUE(has(m, "outside the cell")) << m;
+  m = refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Region Low", array<double>({0.0})); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Region Low must have one value per direction")) << m;
+  m = refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Region Low", array<double>({0.5, 0.5})); 
+                            l.sublist("Phases").sublist("Phase 1").set("Region High", array<double>({0.5, 1.0})); });
+  EXPECT_TRUE(has(m, "Region Low must lie below Region High")) << m;
+  m = refusal([](auto& l) { l.sublist("Discretization").set("Particle Motion", std::string("lagrangian")); });
+  EXPECT_TRUE(has(m, "Phases/Count = 2 needs Discretization/Particle Motion = fixed")) << m;
+  m = refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Density", 800.0); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Density")) << m;
+  EXPECT_TRUE(has(m, "density ratio of 1")) << m;
+  m = refusal([](auto& l) { l.sublist("Permeability").set("Tensor", true); });
+  EXPECT_TRUE(has(m, "Permeability/Tensor with Phases/Count = 2")) << m;
+  m = refusal([](auto& l) { l.sublist("Convergence").set("Levels", 2); });
+  EXPECT_TRUE(has(m, "Convergence/Levels > 1 with Phases/Count = 2")) << m;
+  m = refusal([](auto& l) { l.sublist("Fluid").set("Body Force", array<double>({0.0, 0.0}));
+                            l.sublist("Fluid").set("Velocity Scale", 1.0);
+                            l.sublist("Phases").set("Single Phase Permeability", 1e-3); });
+  EXPECT_TRUE(has(m, "Phases/Single Phase Permeability")) << m;
+  // Phase 1 with one phase: said, not ignored.
+  m = refusal([](auto& l) { l.sublist("Phases").set("Count", 1); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1 is given, but Phases/Count = 1")) << m;
+}
+
+}  // namespace
+}  // namespace poresph
