@@ -31,18 +31,19 @@ struct PhaseViscosities {
   KOKKOS_FORCEINLINE_FUNCTION double of(int i) const { return nu[phase(i)]; }
 };
 
+// The pair's weight (its Shared) is 2 mu_ab / (rho_a rho_b) F; what an end
+// adds with it (add_to_end) is ViscousTerm's.
 template <int Dim, class ExecSpace>
-struct PhaseViscousTerm : PairTermBase {
+struct PhaseViscousTerm : ViscousTerm<Dim, ExecSpace> {
   static constexpr const char* name = "phase_viscous";
+  static constexpr bool optional = true;                   // named in the loop's label
   static constexpr TermMotion motion = TermMotion::Fixed;  // a phase is set on the lattice, once
   using Replaces = ViscousTerm<Dim, ExecSpace>;
+  using Shared = typename ViscousTerm<Dim, ExecSpace>::Shared;
   PhaseViscosities<ExecSpace> viscosity;
 
-  struct Shared {
-    double weight;  // 2 mu_ab / (rho_a rho_b) F, the same from either end
-  };
-
-  explicit PhaseViscousTerm(const PairTermInputs<Dim, ExecSpace>& in) : viscosity(in) {}
+  explicit PhaseViscousTerm(const PairTermInputs<Dim, ExecSpace>& in)
+      : ViscousTerm<Dim, ExecSpace>(in), viscosity(in) {}
   static bool wanted(const PairTermInputs<Dim, ExecSpace>& in) { return in.particles.has_phase; }
 
   KOKKOS_FORCEINLINE_FUNCTION double weight(const PairEnd<Dim>& a, const PairEnd<Dim>& b, double F) const {
@@ -53,13 +54,6 @@ struct PhaseViscousTerm : PairTermBase {
                                             const Vec<Dim>&, double F) const {
     // Only a pair of fluid particles takes it (add_to_end); a boundary end's phase means nothing.
     return {a.kind == kFluid && b.kind == kFluid ? weight(a, b, F) : 0.0};
-  }
-  template <int Own, class Sums>
-  KOKKOS_FORCEINLINE_FUNCTION void add_to_end(const PairEnd<Dim>&, const PairEnd<Dim>& other, const EndGeometry<Dim>&,
-                                              const SeenVelocity<Dim>& seen, const Shared& pair, Sums&,
-                                              Vec<Dim>& acceleration) const {
-    if (other.kind != kFluid) return;
-    acceleration += (other.m * pair.weight) * seen.v;
   }
   KOKKOS_FORCEINLINE_FUNCTION void add_to_fluid_pair(const PairEnd<Dim>& a, const PairEnd<Dim>& b, const Vec<Dim>&,
                                                      const Vec<Dim>&, double F, FluidPairWeights& w) const {
