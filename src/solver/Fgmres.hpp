@@ -68,7 +68,7 @@ struct KrylovResult {
   double relative_residual = 0;
   bool converged = false;
   bool abandoned = false;
-  int basis_vectors = 0;  // of V and Z at the end: what the solve held beyond w
+  int basis_vectors = 0;  // of V and Z in the workspace at the end: what the solves held beyond w
 };
 
 // The bases V and Z and the work vector w of fgmres, kept from one solve to
