@@ -65,7 +65,7 @@ void expect_layered_profile(double ratio, const std::string& tag) {
   ASSERT_EQ(report.stopped_by, "steady_state");
   EXPECT_TRUE(report.solver.converged);
   const LayeredChannel exact{H, 0.5 * H, rho * nu, rho * ratio * nu, rho * F};
-  const auto csv = std::filesystem::temp_directory_path() / ("poresph-test-layered-" + tag) / "particles.csv";
+  const auto csv = testing::output_directory("layered-" + tag) / "particles.csv";
   std::ifstream in(csv);
   ASSERT_TRUE(in) << csv;
   std::string line;
@@ -108,7 +108,7 @@ TEST(TwoPhase, LayeredChannelAtViscosityRatioTen) { expect_layered_profile(10.0,
 // Each particle's phase goes into the checkpoint: a march stopped and
 // continued ends as the march in one go, bit for bit.
 std::string file_text(const std::string& tag, const std::string& name) {
-  std::ifstream in(std::filesystem::temp_directory_path() / ("poresph-test-" + tag) / name, std::ios::binary);
+  std::ifstream in(testing::output_directory(tag) / name, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();

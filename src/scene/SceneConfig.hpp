@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include "core/Particles.hpp"  // kMaxPhases
 #include "geometry/VoxelImage.hpp"
 #include "solver/SteadyOptions.hpp"
 

@@ -24,8 +24,6 @@ struct KrylovVectors {
   ExecSpace space;
   Communicator comm;
 
-  View make(const std::string& label, size_t n) const { return View(label, n); }
-
   double dot(const View& a, const View& b) const {
     double local = 0;
     static const std::string label = "poresph::krylov::dot";
