@@ -339,7 +339,7 @@ TYPED_TEST(SteadySolverTest, SolvesToTheMarchedState) {
     Simulation<2, Space> solved(scene);
     SteadyOptions options;
     options.tolerance = 1e-7;
-    SteadySolver<2, Space> solver(solved, Space(), options, nullptr, [](const SteadyProgress& p) { if (p.linear_residual == 0) std::printf("N %d L %lld r %.3e\n", p.nonlinear_iterations, p.linear_iterations, p.residual); });
+    SteadySolver<2, Space> solver(solved, Space(), options, nullptr, nullptr);
     const auto report = solver.solve();
     EXPECT_TRUE(report.converged);
     EXPECT_LE(report.residual, options.tolerance);
@@ -349,6 +349,64 @@ TYPED_TEST(SteadySolverTest, SolvesToTheMarchedState) {
     EXPECT_NEAR(k_solved / k_marched, 1.0, 1e-5) << "convection " << convection << ": solved " << k_solved
                                                  << ", marched " << k_marched;
   }
+}
+
+// LSC's scaling weighs down the velocity rows next to the disc and only
+// those: a fluid particle within a spacing of the surface has both rows
+// weighed by 1 / (1 + its share of wall drag), clearly below 1; one beyond
+// the kernel's reach (3 h) neither; a cell without grains has no such row.
+TYPED_TEST(SteadySolverTest, LscWeighsTheRowsNextToWalls) {
+  using Space = TypeParam;
+  using Solver = SteadySolver<2, Space>;
+  SteadyOptions setup_only;
+  setup_only.max_nonlinear_iterations = 0;
+  const SceneConfig scene = disc_cell(false);
+  Simulation<2, Space> sim(scene);
+  Solver solver(sim, Space(), setup_only, nullptr, nullptr);
+  solver.solve();
+  SteadySystem<2, Space> system(sim, Space());
+  const int n = system.owned();
+  auto scaling = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solver.lsc_scaling());
+  auto diagonal = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), system.velocity_diagonal());
+  auto fluid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), system.fluid_mask());
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sim.particles().x);
+  const double dx = scene.particle_spacing, reach = 3.0 * sim.derived().smoothing_length;
+  int near = 0, far = 0;
+  long long weighed = 0;
+  for (int i = 0; i < n; ++i) {
+    if (fluid(i) == 0) continue;
+    const double gap = std::hypot(x(i, 0) - 0.5, x(i, 1) - 0.5) - 0.25;
+    for (int c = 0; c < 2; ++c) {
+      const double weight = scaling(i * 2 + c) * diagonal(i * 2 + c);
+      if (gap < dx) {
+        EXPECT_GT(weight, 0.3) << "particle " << i << " component " << c;
+        EXPECT_LT(weight, 0.95) << "particle " << i << " component " << c;
+      }
+      if (gap > reach) {
+        EXPECT_NEAR(weight, 1.0, 1e-6) << "particle " << i << " component " << c;
+      }
+      if (weight < 1.0 / (1.0 + Solver::kDragShareFloor)) ++weighed;
+    }
+    near += gap < dx;
+    far += gap > reach;
+  }
+  EXPECT_GT(near, 20);
+  EXPECT_GT(far, 20);
+  EXPECT_EQ(weighed, solver.wall_rows());
+
+  SceneConfig open = disc_cell(false);
+  open.grains = {};
+  Simulation<2, Space> open_sim(open);
+  Solver open_solver(open_sim, Space(), setup_only, nullptr, nullptr);
+  open_solver.solve();
+  EXPECT_EQ(open_solver.wall_rows(), 0);
+  SteadySystem<2, Space> open_system(open_sim, Space());
+  auto open_scaling = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), open_solver.lsc_scaling());
+  auto open_diagonal = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), open_system.velocity_diagonal());
+  double largest_share = 0;
+  for (size_t row = 0; row < open_scaling.extent(0); ++row)
+    largest_share = std::max(largest_share, std::abs(1.0 - open_scaling(row) * open_diagonal(row)));
+  EXPECT_LT(largest_share, 1e-9) << "a bulk row's share of wall drag is rounding";
 }
 
 // A solve held to two linear iterations does not converge, and says so.
