@@ -22,12 +22,12 @@ struct SteadyOptions {
 // more); one inner basis at a time, counted at the velocity block's size
 // (the larger), and its work vector; the system's fields (its state,
 // residual and scratch, the two partial residuals of G and D alone) and
-// the preconditioner's. SteadySolver reports it with the bases as large as
-// they grew, the memory estimate before a run (app/SceneCheck.cpp) with
-// their whole restart.
+// the preconditioner's (diag(A)^-1 and LSC's weighed scaling among them).
+// SteadySolver reports it with the bases as large as they grew, the memory
+// estimate before a run (app/SceneCheck.cpp) with their whole restart.
 inline double steady_vector_values(double outer_basis, double inner_basis, double nv, double nq) {
   const double bordered = nv + nq + 1;
-  return (outer_basis + 3) * bordered + (inner_basis + 1) * nv + 9 * (nv + nq) + 2 * nv + 8 * nq;
+  return (outer_basis + 3) * bordered + (inner_basis + 1) * nv + 9 * (nv + nq) + 3 * nv + 8 * nq;
 }
 
 }  // namespace poresph
