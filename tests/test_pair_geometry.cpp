@@ -260,7 +260,7 @@ void lattice_rows_against_list(int n) {
   Kokkos::deep_copy(P.v, v), Kokkos::deep_copy(P.rho, rho), Kokkos::deep_copy(P.m, m);
   update_pressure(space, P, 10.0, 0.0);
   lattice.halo.update(P);
-  PairSums<Space> sums{pair_sum_components<Dim, Space>(P, PairLoopOptions{})};
+  PairSums<Dim, Space> sums{pair_sum_components<Dim, Space>(P, PairLoopOptions{})};
   sums.reserve(P.owned);
   const FluidProperties fluid{0.1, 0.0};
   Vec<Dim> force = Vec<Dim>::zero();

@@ -207,7 +207,17 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   pair_options_.convection = convection_;
   extrapolate_walls_ = particles_.has_surfaces && scene.wall_pressure == WallPressure::Extrapolated;
   pair_options_.wall_continuity = !extrapolate_walls_;
-  pair_sums_ = PairSums<ExecSpace>(pair_sum_components<Dim, ExecSpace>(particles_, pair_options_));
+  // Fixed particles' loop adds straight into their rates (the sums' first
+  // copy, core/PairSums.hpp): its sums are d rho/dt, dv/dt and with
+  // surfaces the wall drag, which its finish overwrites. Where the
+  // surfaces' forces are measured (compute_surface_forces), boundary
+  // particles' rates must be zero, as the finish leaves them without wall
+  // continuity and without reactions in the time loop (grains held still).
+  const int sum_components = pair_sum_components<Dim, ExecSpace>(particles_, pair_options_);
+  const bool sums_in_rates = fixed_ && !scene.moving_grains() &&
+                             !(particles_.has_surfaces && pair_options_.wall_continuity) &&
+                             sum_components == 1 + Dim + (particles_.has_surfaces ? 1 : 0);
+  pair_sums_ = PairSums<Dim, ExecSpace>(sum_components, sums_in_rates);
   check_grains(scene.grains, scene);
   solid_map_ = make_solid_map<Dim, MemorySpace>(scene, kernel_.cutoff);
 

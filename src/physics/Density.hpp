@@ -2,6 +2,7 @@
 // Equation of state and density re-initialisation by summation.
 #include <Kokkos_Core.hpp>
 
+#include <stdexcept>
 #include <string>
 
 #include "core/NeighbourList.hpp"
@@ -36,8 +37,10 @@ void update_pressure(const ExecSpace& space, const Particles<Dim, typename ExecS
 // pairs add to both ends through `sums` (component 0), as in the pair loop.
 template <int Dim, class ExecSpace>
 void resum_fluid_density(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                         const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                         const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<Dim, ExecSpace>& sums,
                          const QuinticKernel<Dim>& kernel) {
+  // Its sums are component 0 of every copy: none may be a particle's rate.
+  if (sums.first_copy_in_rates()) throw std::logic_error("resum_fluid_density: the pair sums' first copy is the rates");
   const auto x = P.x, m = P.m, rho = P.rho;
   const auto kind = P.kind;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
