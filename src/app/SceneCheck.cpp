@@ -58,8 +58,8 @@ SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   const bool shifting = s.shifting_coefficient > 0;
   const bool fixed = s.particle_motion == ParticleMotion::Fixed;
   // x, v, x_start, v_start, dvdt; rho, p, m, pressure_term, inverse_density, rho_start, drhodt; kind; id.
-  // Fixed particles keep no x_start (core/Particles.hpp, fix_positions).
-  double fields = (fixed ? 4.0 : 5.0) * D * 8 + 7 * 8 + 4 + 8;
+  // Fixed particles keep no x_start and no inverse_density (core/Particles.hpp, fix_positions).
+  double fields = (fixed ? 4.0 : 5.0) * D * 8 + (fixed ? 6 : 7) * 8 + 4 + 8;
   if (surfaces) fields += (D + 2) * 8.0;  // wall_vector, wall_scalar, wall_drag
   if (shifting) fields += 2.0 * D * 8;
   if (!fixed) fields *= 1.25;  // Particles::reserve grows by a quarter for moving particles

@@ -411,9 +411,10 @@ void Simulation<Dim, ExecSpace>::built_neighbourhood() {
     no_slip_factors_.build(space_, particles_, neighbourhood_.list(), fluid_.min_surface_distance);
   else
     no_slip_factors_.clear();
-  // Fixed particles' volumes use rho0: with one mass, m and 1/rho are constants of the pair loop.
+  // Fixed particles' volumes use rho0: 1/rho is a constant of the pair loop
+  // (they hold no inverse_density), and so is m where they have one mass.
   pair_options_.uniform_mass = fixed_ ? common_mass(space_, particles_, particles_.total()) : 0.0;
-  pair_options_.uniform_inverse_density = pair_options_.uniform_mass > 0 ? 1.0 / volume_density_ : 0.0;
+  pair_options_.uniform_inverse_density = fixed_ ? 1.0 / volume_density_ : 0.0;
   pair_sums_.reserve(particles_.owned, !fixed_);
 }
 

@@ -22,12 +22,13 @@ template <int Dim, class ExecSpace>
 void update_pressure(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
                      double sound_speed_sq, double reference_pressure, double volume_density = 0.0) {
   const auto rho = P.rho, p = P.p, term = P.pressure_term, inverse = P.inverse_density;
+  const bool with_inverse = !P.fixed_positions;  // fixed particles hold none (1/rho0)
   static const std::string label_update_pressure = "poresph::update_pressure";
   Kokkos::parallel_for(
       label_update_pressure, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
         p(i) = pressure_from_density(rho(i), sound_speed_sq);
         term(i) = pressure_term(p(i) - reference_pressure, rho(i));
-        inverse(i) = 1.0 / (volume_density > 0 ? volume_density : rho(i));
+        if (with_inverse) inverse(i) = 1.0 / (volume_density > 0 ? volume_density : rho(i));
       });
 }
 

@@ -59,9 +59,10 @@ struct PairLoopOptions {
   // false when their pressure is extrapolated from the fluid instead
   // (physics/WallPressure.hpp), and their density is no state of its own.
   bool wall_continuity = true;
-  // Fixed particles of one mass whose volumes use rho0 (the caller checks
-  // after each list build): every neighbour's m and 1/rho are these, taken
-  // as constants instead of read per pair. 0: read them.
+  // Fixed particles of one mass (the caller checks after each list build):
+  // every neighbour's m, taken as a constant instead of read per pair; and
+  // fixed particles, whose volumes use rho0: every 1/rho is 1/rho0 (they
+  // hold no inverse_density). 0: read them.
   double uniform_mass = 0;
   double uniform_inverse_density = 0;
   // A boundary particle's end of each pair with a fluid particle takes the
@@ -314,9 +315,14 @@ struct PairDriver : Terms... {
   KOKKOS_FORCEINLINE_FUNCTION PairEnd<Dim> end_of(int i) const {
     int kind = kFluid;
     if constexpr (Surfaces) kind = P.kind(i);
-    const bool uniform = uniform_mass > 0;  // two arrays fewer to gather from
-    PairEnd<Dim> end{{}, {}, uniform ? uniform_mass : P.m(i), uniform ? uniform_inverse_density : P.inverse_density(i),
-                     P.pressure_term(i), kind, i};
+    // Constants where they are (PairLoopOptions): arrays fewer to gather from.
+    PairEnd<Dim> end{{},
+                     {},
+                     uniform_mass > 0 ? uniform_mass : P.m(i),
+                     uniform_inverse_density > 0 ? uniform_inverse_density : P.inverse_density(i),
+                     P.pressure_term(i),
+                     kind,
+                     i};
     for (int d = 0; d < Dim; ++d) {
       end.x.c[d] = P.x(i, d);
       if constexpr (ReadsVelocity) end.v.c[d] = P.v(i, d);
