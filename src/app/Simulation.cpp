@@ -407,6 +407,11 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::built_neighbourhood() {
   if (extrapolate_walls_) wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
   if (fixed_) find_pair_geometry();
+  // Fixed particles' lists are made for good: the cells (8 bytes a slot
+  // and a quarter more) come back only for what interpolates
+  // (Neighbourhood::ensure_cells), and are gone before the no-slip factors
+  // are made, so that the two are never held at once.
+  if (fixed_) neighbourhood_.release_cells();
   if (fixed_ && particles_.has_surfaces)
     no_slip_factors_.build(space_, particles_, neighbourhood_.list(), fluid_.min_surface_distance);
   else
@@ -750,6 +755,7 @@ GridBlock<Dim> Simulation<Dim, ExecSpace>::interpolate_to_grid(const std::vector
     block.count[d] = std::max(0LL, std::min<long long>(end, points[d]) - block.first[d]);
   }
   Kokkos::View<double**, MemorySpace> grid("grid_values", block.nodes(), Dim + 2);
+  neighbourhood_.ensure_cells(space_, particles_);
   if (block.nodes() > 0)
     poresph::interpolate_to_grid(space_, particles_, neighbourhood_.cells(), kernel_, solid_map_, block, grid);
   space_.fence();
@@ -771,6 +777,7 @@ void Simulation<Dim, ExecSpace>::warm_start(Simulation& finer, double scale, dou
   const int n = F.owned;
   const double rest_pressure = derived_.sound_speed * derived_.sound_speed * scene_.density;
   Kokkos::View<double**, MemorySpace> values("warm_start_values", n, Dim + 1);
+  neighbourhood_.ensure_cells(space_, particles_);
   interpolate_fluid_at(space_, particles_, neighbourhood_.cells(), kernel_, F.x, n, rest_pressure, values);
   // This level's own start, interpolated the same way (its ghosts first):
   // what this level changed of it is what the refinement before changed.
