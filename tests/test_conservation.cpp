@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
-#include <utility>
 
 #include "Scenes.hpp"
 #include "TestSpaces.hpp"
@@ -166,51 +165,6 @@ TYPED_TEST(Conservation, PressureForcesConserveAngularMomentum) {
     if (nu == 0.0) {
       EXPECT_LT(std::abs(torque), 1e-14 * torque_scale);
     }
-  }
-}
-
-// Sums whose first copy is the particles' own rates (core/PairSums.hpp,
-// what fixed particles use) give the rates of sums of their own bit for
-// bit, twice in a row (the rates are cleared before the loop adds into
-// them), and the next loop of separate sums finds its copies zero.
-TYPED_TEST(Conservation, SumsInTheRatesGiveTheSameRates) {
-  using Space = TypeParam;
-  const Space space;
-  const int n = 300;
-  std::uniform_real_distribution<double> u(0, 1);
-  FluidCluster<Space> cluster(space, n, 0.05, 9, [&](std::mt19937& rng, double* x, double* v, double& rho, double& m) {
-    x[0] = 0.2 + 0.6 * u(rng), x[1] = 0.2 + 0.6 * u(rng);
-    v[0] = 0.1 * (u(rng) - 0.5), v[1] = 0.1 * (u(rng) - 0.5);
-    rho = 1.0 + 0.05 * u(rng);
-    m = 1e-3 * (1 + 0.1 * u(rng));
-  });
-  const auto& P = cluster.P;
-  const FluidProperties fluid{0.01, 0.0};
-  const Vec<2> force{{0.3, 0.0}};
-  PairLoopOptions options;
-  options.convection = true;
-  const auto rates = [&] {
-    return std::make_pair(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt),
-                          Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.drhodt));
-  };
-  compute_pair_rates(space, P, cluster.neighbours, cluster.sums, cluster.kernel, fluid, force, options);
-  const auto [a, drho] = rates();
-  PairSums<2, Space> in_rates{pair_sum_components<2, Space>(P, options), true};
-  in_rates.reserve(n);
-  ASSERT_TRUE(in_rates.first_copy_in_rates());
-  for (int repeat = 0; repeat < 2; ++repeat) {
-    compute_pair_rates(space, P, cluster.neighbours, in_rates, cluster.kernel, fluid, force, options);
-    const auto [a_in, drho_in] = rates();
-    for (int i = 0; i < n; ++i) {
-      ASSERT_EQ(drho_in(i), drho(i)) << "particle " << i << ", loop " << repeat;
-      for (int d = 0; d < 2; ++d) ASSERT_EQ(a_in(i, d), a(i, d)) << "particle " << i << ", loop " << repeat;
-    }
-  }
-  compute_pair_rates(space, P, cluster.neighbours, cluster.sums, cluster.kernel, fluid, force, options);
-  const auto [a_again, drho_again] = rates();
-  for (int i = 0; i < n; ++i) {
-    ASSERT_EQ(drho_again(i), drho(i)) << i;
-    for (int d = 0; d < 2; ++d) ASSERT_EQ(a_again(i, d), a(i, d)) << i;
   }
 }
 

@@ -72,8 +72,8 @@ SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   const double pairs = 0.5 * neighbour_ball(s);
   double list = (pairs * 4 + 2 * 4) * 1.25;
   if (fixed) list = 2 * 8 * std::ceil(2 * pairs / 64) + 4 + 4 + (surfaces ? pairs / 4 * 8.0 : 0.0);
-  // Fixed particles' first copy of the sums is their rates (core/PairSums.hpp).
-  const double sums = (std::max(1, threads) - (fixed ? 1 : 0)) * (D + 1.0 + (shifting ? D + 1.0 : 0.0)) * 8;
+  // Fixed particles' first copy of the sums is their rates in 3D (core/PairSums.hpp).
+  const double sums = (std::max(1, threads) - (fixed && D == 3 ? 1 : 0)) * (D + 1.0 + (shifting ? D + 1.0 : 0.0)) * 8;
   const double cells = 2 * 4;
   // SeedParticle (x, v, wall_vector, wall_scalar, id, kind) and, with a
   // solid, every lattice point's mark (kind, surface) and depth.

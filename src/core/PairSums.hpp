@@ -32,12 +32,18 @@ class PairSums {
   // a tenth of the step. Its size is the thread count Kokkos started with.
   using Token = Kokkos::Experimental::UniqueToken<ExecSpace, Kokkos::Experimental::UniqueTokenScope::Global>;
 
+  // In 3D only. In 2D a particle's sums are one vector of four doubles,
+  // and with them in the rates GCC contracts the pair loop's sums into
+  // multiply-adds differently (problem III's k changed in its 14th digit);
+  // 2D scenes keep sums of their own (32 bytes a particle).
+  static constexpr bool kRatesAsFirstCopy = Dim == 3;
+
   PairSums() = default;
-  // first_copy_in_rates: components 0 (d rho/dt), 1 to Dim (dv/dt) and, if
+  // first_copy_in_rates (3D; ignored in 2D): components 0 (d rho/dt), 1 to Dim (dv/dt) and, if
   // there is one more, Dim + 1 (the wall drag) of the first copy are the
   // particles' drhodt, dvdt and wall_drag (with_rates).
   explicit PairSums(int components, bool first_copy_in_rates = false)
-      : components_(components), in_rates_(first_copy_in_rates) {}
+      : components_(components), in_rates_(kRatesAsFirstCopy && first_copy_in_rates) {}
 
   bool first_copy_in_rates() const { return in_rates_; }
 
@@ -99,11 +105,15 @@ class PairSums {
   using Values = Kokkos::View<double***, Kokkos::LayoutRight, MemorySpace>;
 
   KOKKOS_FORCEINLINE_FUNCTION double& at(int copy, int i, int component) const {
-    if (!in_rates_) return values_(copy, i, component);
-    if (copy > 0) return values_(copy - 1, i, component);
-    if (component == 0) return drho_(i);
-    if (component <= Dim) return acceleration_(i, component - 1);
-    return own_(i);
+    if constexpr (kRatesAsFirstCopy) {
+      if (in_rates_) {
+        if (copy > 0) return values_(copy - 1, i, component);
+        if (component == 0) return drho_(i);
+        if (component <= Dim) return acceleration_(i, component - 1);
+        return own_(i);
+      }
+    }
+    return values_(copy, i, component);
   }
 
   Token token_;
