@@ -235,7 +235,7 @@ void compute_surface_forces(const ExecSpace& space, const Particles<Dim, typenam
   pair_detail::with_scene_terms<Dim, ExecSpace>(inputs, [&](auto terms) {
     const auto totals = sums.with_rates(P);
     run_pair_loop(policy, inputs, neighbours, totals, kernel, terms);
-    const int count = pair_detail::sums_of<Dim, ExecSpace>(terms);
+    constexpr int count = pair_detail::sums_of<Dim, ExecSpace>(decltype(terms){});
     using Sums = PairRateSums<Dim, 1>;
     const auto Q = P;
     static const std::string label = "poresph::surface_forces";
