@@ -99,7 +99,7 @@ struct FluidCluster {
   QuinticKernel<2> kernel;
   CellList<2, Space> cells;
   NeighbourList<2, Space> neighbours;
-  PairSums<Space> sums{pair_sum_components<2, Space>(P, PairLoopOptions{})};
+  PairSums<2, Space> sums{pair_sum_components<2, Space>(P, PairLoopOptions{})};
 
   template <class Draw>
   FluidCluster(const Space& space, int n, double h, unsigned seed, Draw&& draw) : kernel(h) {
@@ -272,7 +272,7 @@ TYPED_TEST(Conservation, AnotherPairTermIsOneStructInTheList) {
   auto core_a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.dvdt);
   auto core_drho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.drhodt);
 
-  PairSums<Space> sums{pair_detail::sums_of<2, Space>(WithMass{})};
+  PairSums<2, Space> sums{pair_detail::sums_of<2, Space>(WithMass{})};
   sums.reserve(n);
   using Driver = PairDriver<2, Space, ContinuityTerm<2, Space>, PressureTerm<2, Space>, ViscousTerm<2, Space>,
                             NeighbourMassTerm<Space>>;

@@ -58,8 +58,8 @@ SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   const bool shifting = s.shifting_coefficient > 0;
   const bool fixed = s.particle_motion == ParticleMotion::Fixed;
   // x, v, x_start, v_start, dvdt; rho, p, m, pressure_term, inverse_density, rho_start, drhodt; kind; id.
-  // Fixed particles keep no x_start (core/Particles.hpp, fix_positions).
-  double fields = (fixed ? 4.0 : 5.0) * D * 8 + 7 * 8 + 4 + 8;
+  // Fixed particles keep no x_start and no inverse_density (core/Particles.hpp, fix_positions).
+  double fields = (fixed ? 4.0 : 5.0) * D * 8 + (fixed ? 6 : 7) * 8 + 4 + 8;
   if (surfaces) fields += (D + 2) * 8.0;  // wall_vector, wall_scalar, wall_drag
   if (shifting) fields += 2.0 * D * 8;
   if (!fixed) fields *= 1.25;  // Particles::reserve grows by a quarter for moving particles
@@ -72,7 +72,8 @@ SlotBytes bytes_per_slot(const SceneConfig& s, int threads) {
   const double pairs = 0.5 * neighbour_ball(s);
   double list = (pairs * 4 + 2 * 4) * 1.25;
   if (fixed) list = 2 * 8 * std::ceil(2 * pairs / 64) + 4 + 4 + (surfaces ? pairs / 4 * 8.0 : 0.0);
-  const double sums = std::max(1, threads) * (D + 1.0 + (shifting ? D + 1.0 : 0.0)) * 8;
+  // Fixed particles' first copy of the sums is their rates in 3D (core/PairSums.hpp).
+  const double sums = (std::max(1, threads) - (fixed && D == 3 ? 1 : 0)) * (D + 1.0 + (shifting ? D + 1.0 : 0.0)) * 8;
   const double cells = 2 * 4;
   // SeedParticle (x, v, wall_vector, wall_scalar, id, kind) and, with a
   // solid, every lattice point's mark (kind, surface) and depth.

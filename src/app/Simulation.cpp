@@ -207,7 +207,17 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   pair_options_.convection = convection_;
   extrapolate_walls_ = particles_.has_surfaces && scene.wall_pressure == WallPressure::Extrapolated;
   pair_options_.wall_continuity = !extrapolate_walls_;
-  pair_sums_ = PairSums<ExecSpace>(pair_sum_components<Dim, ExecSpace>(particles_, pair_options_));
+  // Fixed particles' loop adds straight into their rates (the sums' first
+  // copy, core/PairSums.hpp): its sums are d rho/dt, dv/dt and with
+  // surfaces the wall drag, which its finish overwrites. Where the
+  // surfaces' forces are measured (compute_surface_forces), boundary
+  // particles' rates must be zero, as the finish leaves them without wall
+  // continuity and without reactions in the time loop (grains held still).
+  const int sum_components = pair_sum_components<Dim, ExecSpace>(particles_, pair_options_);
+  const bool sums_in_rates = fixed_ && !scene.moving_grains() &&
+                             !(particles_.has_surfaces && pair_options_.wall_continuity) &&
+                             sum_components == 1 + Dim + (particles_.has_surfaces ? 1 : 0);
+  pair_sums_ = PairSums<Dim, ExecSpace>(sum_components, sums_in_rates);
   check_grains(scene.grains, scene);
   solid_map_ = make_solid_map<Dim, MemorySpace>(scene, kernel_.cutoff);
 
@@ -397,13 +407,19 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::built_neighbourhood() {
   if (extrapolate_walls_) wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
   if (fixed_) find_pair_geometry();
+  // Fixed particles' lists are made for good: the cells (8 bytes a slot
+  // and a quarter more) come back only for what interpolates
+  // (Neighbourhood::ensure_cells), and are gone before the no-slip factors
+  // are made, so that the two are never held at once.
+  if (fixed_) neighbourhood_.release_cells();
   if (fixed_ && particles_.has_surfaces)
     no_slip_factors_.build(space_, particles_, neighbourhood_.list(), fluid_.min_surface_distance);
   else
     no_slip_factors_.clear();
-  // Fixed particles' volumes use rho0: with one mass, m and 1/rho are constants of the pair loop.
+  // Fixed particles' volumes use rho0: 1/rho is a constant of the pair loop
+  // (they hold no inverse_density), and so is m where they have one mass.
   pair_options_.uniform_mass = fixed_ ? common_mass(space_, particles_, particles_.total()) : 0.0;
-  pair_options_.uniform_inverse_density = pair_options_.uniform_mass > 0 ? 1.0 / volume_density_ : 0.0;
+  pair_options_.uniform_inverse_density = fixed_ ? 1.0 / volume_density_ : 0.0;
   pair_sums_.reserve(particles_.owned, !fixed_);
 }
 
@@ -739,6 +755,7 @@ GridBlock<Dim> Simulation<Dim, ExecSpace>::interpolate_to_grid(const std::vector
     block.count[d] = std::max(0LL, std::min<long long>(end, points[d]) - block.first[d]);
   }
   Kokkos::View<double**, MemorySpace> grid("grid_values", block.nodes(), Dim + 2);
+  neighbourhood_.ensure_cells(space_, particles_);
   if (block.nodes() > 0)
     poresph::interpolate_to_grid(space_, particles_, neighbourhood_.cells(), kernel_, solid_map_, block, grid);
   space_.fence();
@@ -760,6 +777,7 @@ void Simulation<Dim, ExecSpace>::warm_start(Simulation& finer, double scale, dou
   const int n = F.owned;
   const double rest_pressure = derived_.sound_speed * derived_.sound_speed * scene_.density;
   Kokkos::View<double**, MemorySpace> values("warm_start_values", n, Dim + 1);
+  neighbourhood_.ensure_cells(space_, particles_);
   interpolate_fluid_at(space_, particles_, neighbourhood_.cells(), kernel_, F.x, n, rest_pressure, values);
   // This level's own start, interpolated the same way (its ghosts first):
   // what this level changed of it is what the refinement before changed.

@@ -281,7 +281,7 @@ class Simulation {
   // Fixed particles: the lattice offsets within the lists' reach with F =
   // (1/r) dW/dr (pair list) and W (wall list), built with the first list.
   LatticeStencil<Dim, MemorySpace> pair_stencil_, wall_stencil_;
-  PairSums<ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
+  PairSums<Dim, ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;
   RigidGrains<Dim, ExecSpace> rigid_grains_;  // Grains/Motion = free or rotating

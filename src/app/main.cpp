@@ -2,6 +2,9 @@
 #include <Kokkos_Core.hpp>
 #include <mpi.h>
 #include <unistd.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <chrono>
 #include <csignal>
@@ -173,6 +176,16 @@ int run(const CommandLine& cl, const Teuchos::ParameterList& parameters, const p
 
 int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
+#ifdef __GLIBC__
+  // Arrays of a MiB and more (the particles' Views) in mappings of their
+  // own, unmapped when freed. glibc otherwise raises this threshold to the
+  // size of the largest mapped block freed (the lattice seeds' growth takes
+  // it to 32 MiB), after which the Views come from the heap, and those freed
+  // in set-up (each field's copy before the ghosts) stay resident as holes:
+  // 11 MB at the peak of the simple cubic array at 80 a side
+  // (docs/performance.md, "Memory per particle").
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
   MPI_Init(&argc, &argv);
   // At once: a signal during set-up (reading a large scene) must stop the run, not be lost or end it unsaved.
   poresph::install_stop_signal_handlers();

@@ -34,6 +34,8 @@ struct Particles {
   Scalar rho, p, m;
   // Derived from rho before each force evaluation, so that the pair loop
   // divides once per pair instead of three times: (p - p_ref)/rho^2 and 1/rho.
+  // Fixed particles hold no inverse_density: their volumes use rho0, and the
+  // pair loop takes 1/rho0 as a constant (PairLoopOptions::uniform_inverse_density).
   Scalar pressure_term, inverse_density;
   Kokkos::View<int*, MemorySpace> kind;
   Kokkos::View<long long*, MemorySpace> id;
@@ -92,7 +94,8 @@ struct Particles {
   // moving grains, a boundary particle's offset from its turning grain's centre too.
   template <class F>
   void for_each_changing_field(F&& f) const {
-    f(x), f(v), f(rho), f(p), f(pressure_term), f(inverse_density);
+    f(x), f(v), f(rho), f(p), f(pressure_term);
+    if (!fixed_positions) f(inverse_density);
     if (has_grain_index) f(wall_vector);
   }
   // Everything an owned particle is, for migration to another process.
@@ -130,12 +133,14 @@ struct Particles {
   explicit Particles(bool with_surfaces = false, bool with_shifting = false)
       : has_surfaces(with_surfaces), has_shifting(with_shifting) {}
 
-  // Fixed particles: x never changes (no x_start), and the slots are known
-  // once the ghosts are in (no room to grow): the views are cut to the
-  // owned particles now and grow by what each build asks, no more.
+  // Fixed particles: x never changes (no x_start), their 1/rho is 1/rho0
+  // (no inverse_density), and the slots are known once the ghosts are in
+  // (no room to grow): the views are cut to the owned particles now and
+  // grow by what each build asks, no more.
   void fix_positions() {
     fixed_positions = true;
     x_start = Vector();
+    inverse_density = Scalar();
     for_each_view(true, [this](auto& view, const char*) {
       if (static_cast<int>(view.extent(0)) > owned) Kokkos::resize(view, owned);
     });
@@ -163,7 +168,8 @@ struct Particles {
   template <class F>
   void for_each_view(bool owned_fields, F&& f) {
     f(x, "x"), f(v, "v"), f(rho, "rho"), f(p, "p"), f(m, "m");
-    f(pressure_term, "pressure_term"), f(inverse_density, "inverse_density");
+    f(pressure_term, "pressure_term");
+    if (!fixed_positions) f(inverse_density, "inverse_density");
     f(kind, "kind"), f(id, "id");
     if (has_surfaces) f(wall_vector, "wall_vector"), f(wall_scalar, "wall_scalar");
     if (has_grain_index) f(grain, "grain");

@@ -179,9 +179,15 @@ class Halo {
     std::vector<int> recv_counts;   // what it receives from each rank
   };
   struct Transfer {
-    std::vector<double> data;
-    std::vector<int> recv_counts;
+    std::vector<double> data;       // from the other processes, in rank order
+    std::vector<int> recv_counts;   // from each rank, this one's own included
     int width = 0;
+    // What this process sends itself (periodic images): not packed, but
+    // copied slot to slot at the unpack, so that a process alone holds no
+    // buffer at all. Its items, where they begin among the received, and
+    // the stage's direction (the image shift's component).
+    const Item* own = nullptr;
+    int own_first = 0, direction = 0;
     int received() const {
       int n = 0;
       for (int c : recv_counts) n += c;
@@ -250,17 +256,23 @@ class Halo {
     auto& send_counts = send_counts_;
     send_counts.assign(ranks, 0);
     for (const auto& it : items) ++send_counts[it.to];
+    // The items to this process itself (sorted by destination: one run) are
+    // left out of the messages (unpack copies them).
+    const int me = comm_.rank();
+    size_t own_begin = 0;
+    while (own_begin < items.size() && items[own_begin].to < me) ++own_begin;
+    const size_t own_end = own_begin + send_counts[me];
+    t.own = send_counts[me] > 0 ? items.data() + own_begin : nullptr;
+    t.direction = direction;
     auto& send = send_buffer_;
-    send.resize(items.size() * t.width);
+    send.resize((items.size() - send_counts[me]) * t.width);
     keep_headroom(send);
+    size_t packed = 0;
     for (size_t k = 0; k < items.size(); ++k) {
-      int offset = 0;
-      visit(P, fields, [&](const auto& v) {
-        for (int c = 0; c < components(v); ++c) send[k * t.width + offset + c] = get(v, items[k].index, c);
-        offset += components(v);
-      });
-      // x is the first field of every group: apply the image shift.
-      send[k * t.width + direction] += items[k].shift;
+      if (k == own_begin && own_end > own_begin) k = own_end;
+      if (k == items.size()) break;
+      pack(P, fields, items[k], direction, &send[packed * t.width]);
+      ++packed;
     }
     if (known_recv_counts) {
       t.recv_counts = *known_recv_counts;
@@ -272,9 +284,12 @@ class Halo {
     auto &sc = send_sizes_, &sd = send_offsets_, &rc = recv_sizes_, &rd = recv_offsets_;
     sc.resize(ranks), sd.resize(ranks), rc.resize(ranks), rd.resize(ranks);
     int s_off = 0, r_off = 0;
+    t.own_first = 0;
     for (int q = 0; q < ranks; ++q) {
-      sc[q] = send_counts[q] * t.width, sd[q] = s_off, s_off += sc[q];
-      rc[q] = t.recv_counts[q] * t.width, rd[q] = r_off, r_off += rc[q];
+      if (q < me) t.own_first += t.recv_counts[q];
+      const bool other = q != me;
+      sc[q] = other ? send_counts[q] * t.width : 0, sd[q] = s_off, s_off += sc[q];
+      rc[q] = other ? t.recv_counts[q] * t.width : 0, rd[q] = r_off, r_off += rc[q];
     }
     t.data.resize(r_off);
     keep_headroom(t.data);
@@ -284,12 +299,33 @@ class Halo {
     return t;
   }
 
+  // One item's fields into `out`, in the order of visit(), with the image
+  // shift added to x (the first field of every group).
+  static void pack(const ParticleSet& P, Fields fields, const Item& item, int direction, double* out) {
+    int offset = 0;
+    visit(P, fields, [&](const auto& v) {
+      for (int c = 0; c < components(v); ++c) out[offset + c] = get(v, item.index, c);
+      offset += components(v);
+    });
+    out[direction] += item.shift;
+  }
+
+  // The received particles into slots [first_slot, first_slot + received):
+  // from the messages, and this process's own items copied from their
+  // slots (which lie below first_slot: a stage sends only what is held
+  // before it) as a message would have brought them.
   void unpack(const ParticleSet& P, const Transfer& t, int first_slot, Fields fields) const {
-    const int n = t.received();
+    const int n = t.received(), own = t.own ? t.recv_counts[comm_.rank()] : 0;
+    std::vector<double>& row = own_row_;
+    row.resize(t.width);
     for (int k = 0; k < n; ++k) {
+      const bool from_self = k >= t.own_first && k < t.own_first + own;
+      const double* in = row.data();
+      if (from_self) pack(P, fields, t.own[k - t.own_first], t.direction, row.data());
+      else in = &t.data[(k < t.own_first ? k : k - own) * t.width];
       int offset = 0;
       visit(P, fields, [&](const auto& v) {
-        for (int c = 0; c < components(v); ++c) put(v, first_slot + k, c, t.data[k * t.width + offset + c]);
+        for (int c = 0; c < components(v); ++c) put(v, first_slot + k, c, in[offset + c]);
         offset += components(v);
       });
     }
@@ -337,6 +373,7 @@ class Halo {
   mutable std::vector<double> send_buffer_;
   mutable std::vector<int> send_counts_, send_sizes_, send_offsets_, recv_sizes_, recv_offsets_, sort_offsets_;
   mutable std::vector<Item> sorted_items_;
+  mutable std::vector<double> own_row_;  // one particle copied to itself (unpack)
 };
 
 }  // namespace poresph

@@ -81,6 +81,7 @@ class Neighbourhood {
     halo_.build(P);
     if (fixed_) halo_.fit();  // built once
     cells_.build(space, P.x, P.total(), search_lo_, search_hi_, reach());
+    cells_released_ = false;
     const bool rows = lattice_stencil_.size() > 0 &&
                       list_.build_lattice_rows(space, cells_, P.x, P.owned, P.total(), reach(), lattice_stencil_,
                                                lattice_spacing_);
@@ -113,7 +114,19 @@ class Neighbourhood {
   // The next refresh wraps, migrates and builds (particles arrived from elsewhere).
   void invalidate() { built_ = false; }
 
+  // The cell list of the last build. Fixed particles give it back once
+  // their lists are made (release_cells: no step reads it); what
+  // interpolates asks for it again (ensure_cells), made as the build made it.
   const CellList<Dim, ExecSpace>& cells() const { return cells_; }
+  void release_cells() {
+    cells_ = CellList<Dim, ExecSpace>();
+    cells_released_ = true;
+  }
+  void ensure_cells(const ExecSpace& space, const ParticleSet& P) {
+    if (!cells_released_) return;
+    cells_.build(space, P.x, P.total(), search_lo_, search_hi_, reach());
+    cells_released_ = false;
+  }
   NeighbourList<Dim, ExecSpace>& list() { return list_; }
   const NeighbourList<Dim, ExecSpace>& list() const { return list_; }
   // Owned positions at the last build; empty for fixed particles (they are there).
@@ -125,6 +138,7 @@ class Neighbourhood {
   Communicator comm_;
   Halo<Dim, ExecSpace> halo_;
   CellList<Dim, ExecSpace> cells_;
+  bool cells_released_ = false;  // release_cells() since the last build
   NeighbourList<Dim, ExecSpace> list_;
   LatticeStencil<Dim, MemorySpace> lattice_stencil_;  // empty: no rows as masks
   double lattice_spacing_ = 0;

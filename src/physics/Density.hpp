@@ -2,6 +2,7 @@
 // Equation of state and density re-initialisation by summation.
 #include <Kokkos_Core.hpp>
 
+#include <stdexcept>
 #include <string>
 
 #include "core/NeighbourList.hpp"
@@ -21,12 +22,13 @@ template <int Dim, class ExecSpace>
 void update_pressure(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
                      double sound_speed_sq, double reference_pressure, double volume_density = 0.0) {
   const auto rho = P.rho, p = P.p, term = P.pressure_term, inverse = P.inverse_density;
+  const bool with_inverse = !P.fixed_positions;  // fixed particles hold none (1/rho0)
   static const std::string label_update_pressure = "poresph::update_pressure";
   Kokkos::parallel_for(
       label_update_pressure, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int i) {
         p(i) = pressure_from_density(rho(i), sound_speed_sq);
         term(i) = pressure_term(p(i) - reference_pressure, rho(i));
-        inverse(i) = 1.0 / (volume_density > 0 ? volume_density : rho(i));
+        if (with_inverse) inverse(i) = 1.0 / (volume_density > 0 ? volume_density : rho(i));
       });
 }
 
@@ -36,8 +38,10 @@ void update_pressure(const ExecSpace& space, const Particles<Dim, typename ExecS
 // pairs add to both ends through `sums` (component 0), as in the pair loop.
 template <int Dim, class ExecSpace>
 void resum_fluid_density(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                         const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                         const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<Dim, ExecSpace>& sums,
                          const QuinticKernel<Dim>& kernel) {
+  // Its sums are component 0 of every copy: none may be a particle's rate.
+  if (sums.first_copy_in_rates()) throw std::logic_error("resum_fluid_density: the pair sums' first copy is the rates");
   const auto x = P.x, m = P.m, rho = P.rho;
   const auto kind = P.kind;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);

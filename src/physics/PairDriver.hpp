@@ -59,9 +59,10 @@ struct PairLoopOptions {
   // false when their pressure is extrapolated from the fluid instead
   // (physics/WallPressure.hpp), and their density is no state of its own.
   bool wall_continuity = true;
-  // Fixed particles of one mass whose volumes use rho0 (the caller checks
-  // after each list build): every neighbour's m and 1/rho are these, taken
-  // as constants instead of read per pair. 0: read them.
+  // Fixed particles of one mass (the caller checks after each list build):
+  // every neighbour's m, taken as a constant instead of read per pair; and
+  // fixed particles, whose volumes use rho0: every 1/rho is 1/rho0 (they
+  // hold no inverse_density). 0: read them.
   double uniform_mass = 0;
   double uniform_inverse_density = 0;
   // A boundary particle's end of each pair with a fluid particle takes the
@@ -71,6 +72,12 @@ struct PairLoopOptions {
   // scene whose grains move (physics/RigidGrains.hpp); otherwise only in
   // Simulation::surface_loads.
   bool surface_reactions = false;
+  // With the reactions: whether fluid particles' ends take their terms too.
+  // false: only the boundary ends (their reactions), and the fluid's sums
+  // are left as they are: the forces on the surfaces of
+  // compute_surface_forces, which must not disturb the rates when they are
+  // the sums' first copy (core/PairSums.hpp).
+  bool fluid_ends = true;
 };
 
 // Which particles a term applies to: a list holding a term for fixed
@@ -145,9 +152,9 @@ struct PairRateSums {
 
 // A term's own components of particle a after the loop, taken from the
 // threads' copies (which are left zero).
-template <class ExecSpace>
+template <int Dim, class ExecSpace>
 struct TermTotals {
-  const PairSums<ExecSpace>& sums;
+  const PairSums<Dim, ExecSpace>& sums;
   int particle, offset;
   KOKKOS_FORCEINLINE_FUNCTION double take(int i) const { return sums.take(particle, offset + i); }
 };
@@ -267,7 +274,7 @@ struct PairDriver : Terms... {
 
   Particles<Dim, MemorySpace> P;
   NeighbourList<Dim, ExecSpace> neighbours;
-  PairSums<ExecSpace> sums;
+  PairSums<Dim, ExecSpace> sums;
   QuinticKernel<Dim> kernel;
   bool cached;  // the list carries each pair's separation and F (fixed particles)
   bool lattice_rows;  // its rows are masks over the stencil (core/LatticeRows.hpp)
@@ -279,9 +286,10 @@ struct PairDriver : Terms... {
   // which boundary ends take (add_reaction).
   bool boundary_pairs = true;
   double uniform_mass = 0, uniform_inverse_density = 0;  // PairLoopOptions
+  bool fluid_ends = true;                                 // PairLoopOptions (with the reactions only)
 
   PairDriver(const PairTermInputs<Dim, ExecSpace>& in, const NeighbourList<Dim, ExecSpace>& list,
-             const PairSums<ExecSpace>& pair_sums, const QuinticKernel<Dim>& W)
+             const PairSums<Dim, ExecSpace>& pair_sums, const QuinticKernel<Dim>& W)
       : Terms(in)...,
         P(in.particles),
         neighbours(list),
@@ -291,7 +299,8 @@ struct PairDriver : Terms... {
         lattice_rows(list.on_lattice_rows()),
         boundary_pairs(in.options.wall_continuity || WithReactions),
         uniform_mass(in.options.uniform_mass),
-        uniform_inverse_density(in.options.uniform_inverse_density) {}
+        uniform_inverse_density(in.options.uniform_inverse_density),
+        fluid_ends(in.options.fluid_ends) {}
 
   // "poresph::PairRates<no_slip,convection>": what profiles show.
   static std::string label() {
@@ -306,14 +315,25 @@ struct PairDriver : Terms... {
   KOKKOS_FORCEINLINE_FUNCTION PairEnd<Dim> end_of(int i) const {
     int kind = kFluid;
     if constexpr (Surfaces) kind = P.kind(i);
-    const bool uniform = uniform_mass > 0;  // two arrays fewer to gather from
-    PairEnd<Dim> end{{}, {}, uniform ? uniform_mass : P.m(i), uniform ? uniform_inverse_density : P.inverse_density(i),
-                     P.pressure_term(i), kind, i};
+    // Constants where they are (PairLoopOptions): arrays fewer to gather from.
+    PairEnd<Dim> end{{},
+                     {},
+                     uniform_mass > 0 ? uniform_mass : P.m(i),
+                     uniform_inverse_density > 0 ? uniform_inverse_density : P.inverse_density(i),
+                     P.pressure_term(i),
+                     kind,
+                     i};
     for (int d = 0; d < Dim; ++d) {
       end.x.c[d] = P.x(i, d);
       if constexpr (ReadsVelocity) end.v.c[d] = P.v(i, d);
     }
     return end;
+  }
+
+  // Whether an end of this kind takes its terms: every end, but with the
+  // reactions and without fluid_ends only boundary particles'.
+  KOKKOS_FORCEINLINE_FUNCTION bool takes_end(int kind) const {
+    return !WithReactions || fluid_ends || kind != kFluid;
   }
 
   // Whether component c of the sums is one some term adds to.
@@ -402,8 +422,8 @@ struct PairDriver : Terms... {
     // Which ends need the pair's terms: a boundary particle only with
     // boundary_pairs (a ghost end never: its owner adds the pair to it).
     // (boundary_pairs is set with the reactions: a boundary end then takes its reaction.)
-    const bool a_takes = !Surfaces || boundary_pairs || end_a.kind == kFluid;
-    const bool b_takes = BothEnds && (!Surfaces || boundary_pairs || end_b.kind == kFluid);
+    const bool a_takes = (!Surfaces || boundary_pairs || end_a.kind == kFluid) && takes_end(end_a.kind);
+    const bool b_takes = BothEnds && (!Surfaces || boundary_pairs || end_b.kind == kFluid) && takes_end(end_b.kind);
     if (!a_takes && !b_takes) return;
     if constexpr (BothEnds && FluidPairsAsWeights) {
       if (!Surfaces || (end_a.kind == kFluid && end_b.kind == kFluid)) {
@@ -554,7 +574,7 @@ struct PairDriver : Terms... {
       add_pairs<true, Surfaces>(end_a, sum_a, copy, neighbours.begin(a), ghosts_begin);  // owned neighbours
       add_pairs<false, Surfaces>(end_a, sum_a, copy, ghosts_begin, neighbours.end(a));   // ghosts
     }
-    add_sums(copy, a, sum_a);
+    if (takes_end(end_a.kind)) add_sums(copy, a, sum_a);
     sums.release(copy);
   }
 };
@@ -568,13 +588,13 @@ struct FinishPairRates : Terms... {
   template <class Term>
   static constexpr int offset_of = pair_detail::OffsetOf<Dim, Term, Terms...>::value;
   Particles<Dim, typename ExecSpace::memory_space> P;
-  PairSums<ExecSpace> sums;
+  PairSums<Dim, ExecSpace> sums;
   Vec<Dim> body_force;
   bool wall_continuity;
   // A boundary particle's dv/dt is its reaction sum (PairDriver::add_reaction).
   static constexpr bool WithReactions = (Terms::reactions || ...);
 
-  FinishPairRates(const PairTermInputs<Dim, ExecSpace>& in, const PairSums<ExecSpace>& pair_sums,
+  FinishPairRates(const PairTermInputs<Dim, ExecSpace>& in, const PairSums<Dim, ExecSpace>& pair_sums,
                   const Vec<Dim>& force)
       : Terms(in)...,
         P(in.particles),
@@ -590,7 +610,7 @@ struct FinishPairRates : Terms... {
       const double pairs = sums.take(a, Sums::acceleration_begin + d);
       P.dvdt(a, d) = a_is_fluid ? pairs + body_force[d] : WithReactions ? pairs : 0.0;
     }
-    (static_cast<const Terms&>(*this).finish(P, a, a_is_fluid, TermTotals<ExecSpace>{sums, a, offset_of<Terms>}), ...);
+    (static_cast<const Terms&>(*this).finish(P, a, a_is_fluid, TermTotals<Dim, ExecSpace>{sums, a, offset_of<Terms>}), ...);
   }
 };
 

@@ -138,7 +138,7 @@ int pair_sum_components(const Particles<Dim, typename ExecSpace::memory_space>& 
 // The pair loop of one list of terms, and its finish.
 template <int Dim, class ExecSpace, class... Terms>
 void run_pair_loop(const Kokkos::RangePolicy<ExecSpace>& policy, const PairTermInputs<Dim, ExecSpace>& inputs,
-                   const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                   const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<Dim, ExecSpace>& sums,
                    const QuinticKernel<Dim>& kernel, PairTermList<Terms...>) {
   using Driver = PairDriver<Dim, ExecSpace, Terms...>;
   static const std::string label = Driver::label();
@@ -146,7 +146,7 @@ void run_pair_loop(const Kokkos::RangePolicy<ExecSpace>& policy, const PairTermI
 }
 template <int Dim, class ExecSpace, class... Terms>
 void run_pair_finish(const Kokkos::RangePolicy<ExecSpace>& policy, const PairTermInputs<Dim, ExecSpace>& inputs,
-                     const PairSums<ExecSpace>& sums, const Vec<Dim>& body_force, PairTermList<Terms...>) {
+                     const PairSums<Dim, ExecSpace>& sums, const Vec<Dim>& body_force, PairTermList<Terms...>) {
   static const std::string label = "poresph::FinishRates";
   Kokkos::parallel_for(label, policy, FinishPairRates<Dim, ExecSpace, Terms...>(inputs, sums, body_force));
 }
@@ -154,29 +154,34 @@ void run_pair_finish(const Kokkos::RangePolicy<ExecSpace>& policy, const PairTer
 // The pair loop: the sums of every pair term over the neighbours of all
 // owned particles, into `sums`, which must hold pair_sum_components(P,
 // options) components for every owned particle; ghosts and the neighbour
-// list must be up to date.
+// list must be up to date. With the sums' first copy in the rates, those
+// rates are zeroed first (the finish writes them).
 template <int Dim, class ExecSpace>
 void sum_pair_rates(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                    const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                    const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<Dim, ExecSpace>& sums,
                     const QuinticKernel<Dim>& kernel, const FluidProperties& fluid, const PairLoopOptions& options,
                     const NoSlipFactors<Dim, ExecSpace>& no_slip) {
   const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
   const PairTermInputs<Dim, ExecSpace> inputs{P, fluid, options, no_slip, neighbours.has_geometry()};
-  pair_detail::with_scene_terms<Dim, ExecSpace>(
-      inputs, [&](auto terms) { run_pair_loop(policy, inputs, neighbours, sums, kernel, terms); });
+  const auto into = sums.with_rates(P);
+  pair_detail::with_scene_terms<Dim, ExecSpace>(inputs, [&](auto terms) {
+    into.clear_rates(space, P.owned, pair_detail::sums_of<Dim, ExecSpace>(terms));
+    run_pair_loop(policy, inputs, neighbours, into, kernel, terms);
+  });
 }
 
 // After sum_pair_rates with the same arguments: the particles' rates from
 // the sums (which are left zero), the body force, each term's own finish.
 template <int Dim, class ExecSpace>
 void finish_pair_rates(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                       const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                       const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<Dim, ExecSpace>& sums,
                        const FluidProperties& fluid, const Vec<Dim>& body_force, const PairLoopOptions& options,
                        const NoSlipFactors<Dim, ExecSpace>& no_slip) {
   const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
   const PairTermInputs<Dim, ExecSpace> inputs{P, fluid, options, no_slip, neighbours.has_geometry()};
+  const auto from = sums.with_rates(P);
   pair_detail::with_scene_terms<Dim, ExecSpace>(
-      inputs, [&](auto terms) { run_pair_finish(policy, inputs, sums, body_force, terms); });
+      inputs, [&](auto terms) { run_pair_finish(policy, inputs, from, body_force, terms); });
 }
 
 // The rates of one list of terms only, not the scene's: the steady
@@ -188,15 +193,17 @@ void finish_pair_rates(const ExecSpace& space, const Particles<Dim, typename Exe
 // apart; the rows of boundary particles are then not their rates.
 template <int Dim, class ExecSpace, class... Terms>
 void compute_pair_rates_of(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                           const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                           const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<Dim, ExecSpace>& sums,
                            const QuinticKernel<Dim>& kernel, const FluidProperties& fluid, const Vec<Dim>& body_force,
                            const PairLoopOptions& options, const NoSlipFactors<Dim, ExecSpace>& no_slip,
                            PairTermList<Terms...> terms) {
   static_assert(!(Terms::surfaces || ...), "a partial pair loop treats boundary particles as fluid ones");
   const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
   const PairTermInputs<Dim, ExecSpace> inputs{P, fluid, options, no_slip, neighbours.has_geometry()};
-  run_pair_loop(policy, inputs, neighbours, sums, kernel, terms);
-  run_pair_finish(policy, inputs, sums, body_force, terms);
+  const auto into = sums.with_rates(P);
+  into.clear_rates(space, P.owned, pair_detail::sums_of<Dim, ExecSpace>(terms));
+  run_pair_loop(policy, inputs, neighbours, into, kernel, terms);
+  run_pair_finish(policy, inputs, into, body_force, terms);
 }
 
 // The fluid's force on each owned boundary particle a: on_force(a, F)
@@ -207,11 +214,14 @@ void compute_pair_rates_of(const ExecSpace& space, const Particles<Dim, typename
 // mass: the same terms as the rates of sum_pair_rates with the same
 // arguments, so that the fluid's momentum change from its surfaces and the
 // surfaces' force add to zero to round-off. No array a particle: the
-// caller sums what it needs. The particles' rates are left as they were;
-// the sums are left zero.
+// caller sums what it needs. Only the boundary ends take their pairs
+// (PairLoopOptions::fluid_ends): the fluid particles' rates are left as
+// they were, also where they are the sums' first copy, whose boundary
+// particles' part must then be zero, as a finish without wall continuity
+// or reactions leaves it (app/Simulation.cpp); the sums are left zero.
 template <int Dim, class ExecSpace, class OnForce>
 void compute_surface_forces(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                            const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                            const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<Dim, ExecSpace>& sums,
                             const QuinticKernel<Dim>& kernel, const FluidProperties& fluid,
                             const PairLoopOptions& options, const NoSlipFactors<Dim, ExecSpace>& no_slip,
                             const OnForce& on_force) {
@@ -219,24 +229,26 @@ void compute_surface_forces(const ExecSpace& space, const Particles<Dim, typenam
   whole_drag.separate_wall_drag = false;  // the reaction takes the whole viscous pull
   PairLoopOptions reactions = options;
   reactions.surface_reactions = true;
+  reactions.fluid_ends = false;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
   const PairTermInputs<Dim, ExecSpace> inputs{P, whole_drag, reactions, no_slip, neighbours.has_geometry()};
   pair_detail::with_scene_terms<Dim, ExecSpace>(inputs, [&](auto terms) {
-    run_pair_loop(policy, inputs, neighbours, sums, kernel, terms);
-    const int count = pair_detail::sums_of<Dim, ExecSpace>(terms);
+    const auto totals = sums.with_rates(P);
+    run_pair_loop(policy, inputs, neighbours, totals, kernel, terms);
+    constexpr int count = pair_detail::sums_of<Dim, ExecSpace>(decltype(terms){});
     using Sums = PairRateSums<Dim, 1>;
     const auto Q = P;
-    const auto totals = sums;
     static const std::string label = "poresph::surface_forces";
     Kokkos::parallel_for(
         label, policy, KOKKOS_LAMBDA(int a) {
+          if (Q.kind(a) == kFluid) return;  // added nothing (fluid_ends)
           Vec<Dim> F;
           for (int c = 0; c < count; ++c) {
             const double total = totals.take(a, c);  // taken always: the copies return to zero
             const int d = c - Sums::acceleration_begin;
             if (d >= 0 && d < Dim) F[d] = Q.m(a) * total;
           }
-          if (Q.kind(a) != kFluid) on_force(a, F);
+          on_force(a, F);
         });
   });
 }
@@ -244,7 +256,7 @@ void compute_surface_forces(const ExecSpace& space, const Particles<Dim, typenam
 // Both: the rates of all owned particles.
 template <int Dim, class ExecSpace>
 void compute_pair_rates(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                        const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<ExecSpace>& sums,
+                        const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<Dim, ExecSpace>& sums,
                         const QuinticKernel<Dim>& kernel, const FluidProperties& fluid, const Vec<Dim>& body_force,
                         const PairLoopOptions& options = {}, const NoSlipFactors<Dim, ExecSpace>& no_slip = {}) {
   sum_pair_rates(space, P, neighbours, sums, kernel, fluid, options, no_slip);

@@ -190,7 +190,7 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
         Q.p(w) = p;
         Q.rho(w) = rho;
         Q.pressure_term(w) = pressure_term(p - reference_pressure, rho);
-        Q.inverse_density(w) = 1.0 / (volume_density > 0 ? volume_density : rho);
+        if (!Q.fixed_positions) Q.inverse_density(w) = 1.0 / (volume_density > 0 ? volume_density : rho);
       });
 }
 
