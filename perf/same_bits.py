@@ -38,12 +38,15 @@ SCENES = {
     "simple_cubic": ("3d/simple_cubic.xml", ["Run/Max Steps=200"]),
     "simple_cubic_40": ("3d/simple_cubic.xml", ["Run/Max Steps=100", "Discretization/Particle Spacing=0.0025"]),
     "image_pack": ("image/sphere_pack.xml", ["Run/Max Steps=200"]),
+    "box_40": ("problem1/problem1.xml", [
+        "Run/Max Steps=100", "Domain/Cell Size={0.1, 0.1, 0.1}", "Discretization/Particle Spacing=0.0025"]),
     "problem3_moving_shifting": ("problem3/problem3.xml", [
         "Run/Max Steps=600", "Discretization/Particle Motion=lagrangian", "Discretization/Particle Shifting=0.5"]),
     "problem1_moving": ("problem1/problem1.xml", ["Run/Max Steps=600", "Discretization/Particle Motion=lagrangian"]),
 }
 # For --timing: longer runs of the same scenes.
 TIMING_STEPS = {"channel": 6000, "problem3": 3000, "simple_cubic": 300, "simple_cubic_40": 150, "image_pack": 300,
+                "box_40": 150,
                 "problem3_moving_shifting": 1500, "problem1_moving": 1500}
 
 
