@@ -176,7 +176,9 @@ JsonObject RunReport::to_json() const {
       .add("max_density_variation", max_density_variation)
       .add("max_density_drift", max_density_drift)
       .add("neighbour_rebuilds", neighbour_rebuilds)
-      .add("neighbours_per_particle", neighbours_per_particle);
+      .add("neighbours_per_particle", neighbours_per_particle)
+      .add("ghost_particles", ghost_particles)
+      .add("ghost_particles_max", ghost_particles_max);
   if (channel) {
     std::vector<JsonObject> samples;
     for (const auto& s : profile_samples)

@@ -70,6 +70,7 @@ struct RunReport {
   double max_density_drift = 0;      // max |<rho>/rho0 - 1| of fluid, likewise
   long long neighbour_rebuilds = 0;
   double neighbours_per_particle = 0;  // listed pairs (support + skin) per owned particle
+  long long ghost_particles = 0, ghost_particles_max = 0;  // over all processes, and the most one holds
   bool channel = false;
   double profile_error = 0;
   std::vector<ProfileSample> profile_samples;

@@ -206,6 +206,9 @@ class Simulation {
   // Over all processes.
   long long fluid_particles() const { return fluid_count_; }
   long long boundary_particles() const { return total_count_ - fluid_count_; }
+  // On this process: the ghosts it holds now (other processes' particles and
+  // periodic images within the kernel's reach of its own).
+  long long ghost_particles_here() const { return particles_.ghosts; }
   const Communicator& communicator() const { return comm_; }
   // Of the fluid particles, in one pass: max |rho/rho0 - 1|, and
   // <rho>/rho0 - 1, the drift of the mean density.

@@ -347,6 +347,9 @@ class StageLoop {
     report.threads = ExecSpace::concurrency();
     report.backend = backend_name<ExecSpace>();
     report.neighbours_per_particle = sim.neighbours_per_particle();
+    const long long ghosts = sim.ghost_particles_here();
+    report.ghost_particles = sim.communicator().sum(ghosts);
+    report.ghost_particles_max = sim.communicator().max(ghosts);
     StageObservations observed;
     observed.health = health_of(report);
     for (const auto& o : observers_) o->report(observed);

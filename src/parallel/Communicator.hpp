@@ -58,6 +58,12 @@ class Communicator {
     MPI_Allreduce(&x, &r, 1, MPI_INT, MPI_MAX, comm_);
     return r;
   }
+  long long max(long long x) const {
+    long long r = 0;
+    const CommunicationTimer timer;
+    MPI_Allreduce(&x, &r, 1, MPI_LONG_LONG, MPI_MAX, comm_);
+    return r;
+  }
   bool any(bool x) const { return max(x ? 1 : 0) != 0; }
   long long min(long long x) const {
     long long r = 0;
