@@ -64,6 +64,11 @@ def run(build, name, directory, extra=(), steps=None):
         return json.load(f)
 
 
+def summary_of(directory):
+    with open(os.path.join(directory, "summary.json")) as f:
+        return json.load(f)
+
+
 def compare(a_dir, b_dir):
     """The differences between two runs' results, as text lines (none: equal)."""
     problems = []
@@ -71,8 +76,9 @@ def compare(a_dir, b_dir):
         a = json.load(f)
     with open(os.path.join(b_dir, "summary.json")) as f:
         b = json.load(f)
+    # A key only the candidate reports is a new output, not a changed result (main() lists them).
     for key in sorted(set(a) | set(b)):
-        if key in TIMINGS:
+        if key in TIMINGS or key not in a:
             continue
         if a.get(key) != b.get(key):
             problems.append(f"summary.json {key}: {a.get(key)!r} != {b.get(key)!r}")
@@ -124,7 +130,9 @@ def main():
                 continue  # the reference's runs are kept between checks
             run(getattr(args, which), name, dirs[which], ["Output/Final Particles CSV=true"])
         problems = compare(dirs["reference"], dirs["candidate"])
-        print(f"{name}: {'same bits' if not problems else 'DIFFERENT'}", flush=True)
+        new_keys = sorted(set(summary_of(dirs["candidate"])) - set(summary_of(dirs["reference"])))
+        print(f"{name}: {'same bits' if not problems else 'DIFFERENT'}"
+              + (f" (new in summary.json: {', '.join(new_keys)})" if new_keys else ""), flush=True)
         for p in problems:
             print("   ", p)
         failed += bool(problems)

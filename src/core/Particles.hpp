@@ -79,11 +79,13 @@ struct Particles {
 
   // The fields the communication layer moves, by what it moves them for;
   // f is called with each View. It needs no idea what the fields mean,
-  // except that `x` is the position (ghosts carry shifted copies of it).
+  // except that `x` is the position (ghosts carry shifted copies of it),
+  // first in each group that has it.
   // A ghost's copy: everything a neighbour's pair loop reads.
   template <class F>
   void for_each_ghost_field(F&& f) const {
-    for_each_changing_field(f);
+    f(x);
+    for_each_changing_value(f);
     f(m), f(kind), f(id);
     if (has_surfaces && !has_grain_index) f(wall_vector);  // else a changing field
     if (has_surfaces) f(wall_scalar);
@@ -91,10 +93,17 @@ struct Particles {
     if (has_phase) f(phase);
   }
   // What changes between neighbour-list rebuilds (ghost refresh): with
-  // moving grains, a boundary particle's offset from its turning grain's centre too.
+  // moving grains, a boundary particle's offset from its turning grain's
+  // centre too. Fixed particles' positions never change, so their ghosts
+  // keep the x of the build (a third of what a refresh would send).
   template <class F>
   void for_each_changing_field(F&& f) const {
-    f(x), f(v), f(rho), f(p), f(pressure_term);
+    if (!fixed_positions) f(x);
+    for_each_changing_value(f);
+  }
+  template <class F>
+  void for_each_changing_value(F&& f) const {
+    f(v), f(rho), f(p), f(pressure_term);
     if (!fixed_positions) f(inverse_density);
     if (has_grain_index) f(wall_vector);
   }

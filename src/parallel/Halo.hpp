@@ -300,14 +300,15 @@ class Halo {
   }
 
   // One item's fields into `out`, in the order of visit(), with the image
-  // shift added to x (the first field of every group).
+  // shift added to x (the first field of every group that has it: all but
+  // the refresh of fixed particles, Particles::for_each_changing_field).
   static void pack(const ParticleSet& P, Fields fields, const Item& item, int direction, double* out) {
     int offset = 0;
     visit(P, fields, [&](const auto& v) {
       for (int c = 0; c < components(v); ++c) out[offset + c] = get(v, item.index, c);
       offset += components(v);
     });
-    out[direction] += item.shift;
+    if (fields != Fields::Changing || !P.fixed_positions) out[direction] += item.shift;
   }
 
   // The received particles into slots [first_slot, first_slot + received):
