@@ -52,8 +52,8 @@ TEST(SurfaceTension, DivergenceOfARadialNormalIsTheCurvature) {
 }
 
 // A disc of radius R (in spacings) at the centre of a periodic square of
-// side L: its interface geometry at every lattice point, the colour phase 1's share
-// of each lattice cell (16 x 16 samples) or its phase (0 or 1).
+// side L: its interface geometry at every lattice point, the colour phase
+// 1's share of each lattice cell (16 x 16 samples) or its phase (0 or 1).
 struct Disc {
   double R;
   long long L;
@@ -96,7 +96,8 @@ TEST(SurfaceTension, CurvatureOfALatticeDiscIsOneOverItsRadius) {
   // sum over a ray's side of n . r_hat dV = -(2 pi R) for phase 1 inside.
   double flux = 0;
   for (size_t k = 0; k < disc.points.size(); ++k) {
-    const double x = static_cast<double>(disc.points[k][0]) + 0.5 - 40.0, y = static_cast<double>(disc.points[k][1]) + 0.5 - 40.0;
+    const double x = static_cast<double>(disc.points[k][0]) + 0.5 - 40.0;
+    const double y = static_cast<double>(disc.points[k][1]) + 0.5 - 40.0;
     const double r = std::hypot(x, y);
     if (r > 0) flux += (disc.geometry[k].normal[0] * x + disc.geometry[k].normal[1] * y) / r;
   }

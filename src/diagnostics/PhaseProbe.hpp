@@ -34,7 +34,8 @@ PhaseSums phase_sums(const ParticleSet& P, int phase, double rho0, int axis) {
   const auto v = P.v;
   PhaseSums sums;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(ExecSpace(), 0, P.owned);
-  static const std::string volume_label = "poresph::phase_volume", flux_label = "poresph::phase_flux";
+  static const std::string volume_label = "poresph::phase_volume", flux_label = "poresph::phase_flux",
+                           mass_label = "poresph::phase_mass";
   Kokkos::parallel_reduce(
       volume_label, policy,
       KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) / rho0 : 0.0; },
@@ -46,8 +47,8 @@ PhaseSums phase_sums(const ParticleSet& P, int phase, double rho0, int axis) {
       },
       sums.flux);
   Kokkos::parallel_reduce(
-      volume_label, policy, KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) : 0.0; },
-      sums.mass);
+      mass_label, policy,
+      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) : 0.0; }, sums.mass);
   return sums;
 }
 

@@ -254,7 +254,8 @@ inline double phase_one_fraction(const SceneConfig& scene, const double* x, doub
     double fraction = 1;
     for (int d = 0; d < dim; ++d) {
       // x is a lattice point of the cell: its lattice cell lies in [0, L), as the box does.
-      const double overlap = std::min(x[d] + 0.5 * dx, phase.region_high[d]) - std::max(x[d] - 0.5 * dx, phase.region_low[d]);
+      const double overlap =
+          std::min(x[d] + 0.5 * dx, phase.region_high[d]) - std::max(x[d] - 0.5 * dx, phase.region_low[d]);
       fraction *= std::max(0.0, overlap) / dx;
     }
     return fraction;
