@@ -136,6 +136,23 @@ TEST(TwoPhase, AMarchContinuedFromItsCheckpointIsTheMarchInOneGo) {
   }
 }
 
+// The surface tension's acceleration goes into the checkpoint with each
+// particle: a drop marched, stopped and continued ends as in one go (a
+// continuation without the force, or with it on other particles, would not).
+TEST(TwoPhase, ADropContinuedFromItsCheckpointIsTheMarchInOneGo) {
+  const std::string scene = "two_phase/laplace_drop.xml";
+  const auto steps = [](const std::string& n) {
+    return std::vector<std::string>{"Solver/Method=explicit", "Run/Max Steps=" + n, "Output/Final Particles CSV=true"};
+  };
+  run_input(scene, steps("300"), "drop-whole");
+  run_input(scene, steps("150"), "drop-parts");
+  const RunReport continued = run_input(scene, steps("300"), "drop-parts", "checkpoint.h5");
+  EXPECT_EQ(continued.restarted_from_step, 150);
+  const std::string particles = file_text("drop-whole", "particles.csv");
+  EXPECT_GT(particles.size(), 1000u);
+  EXPECT_EQ(particles, file_text("drop-parts", "particles.csv"));
+}
+
 // What the phases do not take is refused before any work, naming the parameter.
 std::string refusal(const std::function<void(Teuchos::ParameterList&)>& change) {
   auto list = testing::minimal_scene();
