@@ -1,13 +1,14 @@
 // Surface tension's geometry (physics/SurfaceTension.hpp) on lattice discs
 // and spheres: the shares of physics/PairTerms.hpp summed by hand over a
 // lattice give the divergence of a radial unit field, 1/r (2D) and 2/r
-// (3D); interface_geometry's curvature of a disc of radius 20 spacings is
-// 1/R along its interface; its colour-gradient normal sums to the jump of
-// the colour across the interface.
+// (3D); interface_geometry's curvature of a disc (sphere) of radius 20
+// spacings is 1/R (2/R) along its interface; its colour-gradient normal
+// sums to the jump of the colour across the interface.
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "core/Kernel.hpp"
@@ -90,6 +91,7 @@ TEST(SurfaceTension, CurvatureOfALatticeDiscIsOneOverItsRadius) {
     ++along;
     worst = std::max(worst, std::abs(disc.geometry[k].smoothed_curvature * disc.R - 1.0));
   }
+  std::printf("  disc: %d points along the interface, kappa R - 1 at most %.4f\n", along, worst);
   EXPECT_GT(along, 150);
   EXPECT_LT(worst, 0.02) << "largest relative error of kappa along the interface";
   // The normal's integral across the interface is the jump of the colour:
@@ -108,6 +110,37 @@ TEST(SurfaceTension, CurvatureOfALatticeDiscIsOneOverItsRadius) {
       ASSERT_EQ(disc.geometry[k].normal[0], 0.0) << disc.radius_of(k);
       ASSERT_EQ(disc.geometry[k].smoothed_curvature, 0.0);
     }
+}
+
+TEST(SurfaceTension, CurvatureOfALatticeSphereIsTwoOverItsRadius) {
+  // A sphere of R = 20 spacings at the centre of a periodic cube of 80: the
+  // points along its surface only (the geometry is taken where asked).
+  const double R = 20, centre = 40;
+  const long long L = 80;
+  std::vector<std::array<long long, 3>> points;
+  std::vector<double> radii;
+  for (long long i = 0; i < L; ++i)
+    for (long long j = 0; j < L; ++j)
+      for (long long k = 0; k < L; ++k) {
+        const double r = std::sqrt(std::pow(i + 0.5 - centre, 2) + std::pow(j + 0.5 - centre, 2) +
+                                   std::pow(k + 0.5 - centre, 2));
+        if (std::abs(r - R) < 0.75) points.push_back({i, j, k}), radii.push_back(r);
+      }
+  const auto colour = [&](const std::array<long long, 3>& p) {
+    int inside = 0;
+    for (int u = 0; u < 8; ++u)
+      for (int v = 0; v < 8; ++v)
+        for (int w = 0; w < 8; ++w)
+          inside += std::sqrt(std::pow(p[0] + (u + 0.5) / 8 - centre, 2) + std::pow(p[1] + (v + 0.5) / 8 - centre, 2) +
+                              std::pow(p[2] + (w + 0.5) / 8 - centre, 2)) < R;
+    return inside / 512.0;
+  };
+  const auto geometry = interface_geometry<3>(points, {L, L, L}, 1.0, 1.0, colour);
+  double worst = 0;
+  for (const auto& g : geometry) worst = std::max(worst, std::abs(g.smoothed_curvature * R / 2 - 1.0));
+  std::printf("  sphere: %zu points along the surface, kappa R / 2 - 1 at most %.4f\n", points.size(), worst);
+  EXPECT_GT(points.size(), 3000u);
+  EXPECT_LT(worst, 0.02) << "largest relative error of kappa along the sphere's surface";
 }
 
 TEST(SurfaceTension, ThePhaseAsColourFollowsTheLatticesStairs) {
