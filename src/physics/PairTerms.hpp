@@ -112,7 +112,7 @@ KOKKOS_INLINE_FUNCTION Vec<Dim> colour_gradient_share(double V_b, double c_a, do
 // The divergence of the unit normal, sum_b V_b (nhat_b - nhat_a) . grad_a W_ab,
 // over the neighbours b whose normal passes Morris's filter; kappa_a is
 // minus it over the same neighbours' Shepard sum sum_b V_b W_ab (self
-// included), which makes up for the neighbours left out (Morris 2000, eq. 26).
+// included), which makes up for the neighbours left out (Morris 2000).
 template <int Dim>
 KOKKOS_INLINE_FUNCTION double normal_divergence_share(double V_b, const Vec<Dim>& nhat_a, const Vec<Dim>& nhat_b,
                                                       const Vec<Dim>& r_ab, double F_ab) {
