@@ -72,6 +72,23 @@ TEST(PairTerms, WeightsByHand) {
   EXPECT_DOUBLE_EQ(volume_gradient_weight(0.5, -4.0), -2.0);
 }
 
+TEST(PairTerms, SurfaceTensionSharesByHand) {
+  // V_b (c_b - c_a) F r_ab = 0.5 * (1 - 0.25) * (-2) * (1, -3) = (-0.75, 2.25)
+  const auto n = colour_gradient_share<2>(0.5, 0.25, 1.0, Vec<2>{{1.0, -3.0}}, -2.0);
+  EXPECT_DOUBLE_EQ(n[0], -0.75);
+  EXPECT_DOUBLE_EQ(n[1], 2.25);
+  // The same colour on both ends: nothing.
+  EXPECT_EQ(colour_gradient_share<2>(0.5, 1.0, 1.0, Vec<2>{{1.0, -3.0}}, -2.0)[0], 0.0);
+  // V_b F (nhat_b - nhat_a) . r_ab = 0.5 * (-2) * ((0, 1) - (1, 0)) . (2, 1) = -1 * (-2 + 1) = 1
+  EXPECT_DOUBLE_EQ(normal_divergence_share<2>(0.5, Vec<2>{{1.0, 0.0}}, Vec<2>{{0.0, 1.0}}, Vec<2>{{2.0, 1.0}}, -2.0),
+                   1.0);
+  EXPECT_DOUBLE_EQ(curvature_from_sums(-0.3, 0.6), 0.5);
+  // sigma kappa n / rho = 0.07 * 50 / 1000 * (2, -1)
+  const auto a = surface_tension_acceleration<2>(0.07, 50.0, Vec<2>{{2.0, -1.0}}, 1000.0);
+  EXPECT_DOUBLE_EQ(a[0], 0.007);
+  EXPECT_DOUBLE_EQ(a[1], -0.0035);
+}
+
 TEST(PairTerms, EquationOfStateIsLinear) { EXPECT_DOUBLE_EQ(pressure_from_density(1000.0, 4.0), 4000.0); }
 
 TEST(NoSlip, PlaneWallDistances) {

@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
+#include <stdexcept>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -134,6 +136,23 @@ TEST(TwoPhase, AMarchContinuedFromItsCheckpointIsTheMarchInOneGo) {
   }
 }
 
+// The surface tension's acceleration goes into the checkpoint with each
+// particle: a drop marched, stopped and continued ends as in one go (a
+// continuation without the force, or with it on other particles, would not).
+TEST(TwoPhase, ADropContinuedFromItsCheckpointIsTheMarchInOneGo) {
+  const std::string scene = "two_phase/laplace_drop.xml";
+  const auto steps = [](const std::string& n) {
+    return std::vector<std::string>{"Solver/Method=explicit", "Run/Max Steps=" + n, "Output/Final Particles CSV=true"};
+  };
+  run_input(scene, steps("300"), "drop-whole");
+  run_input(scene, steps("150"), "drop-parts");
+  const RunReport continued = run_input(scene, steps("300"), "drop-parts", "checkpoint.h5");
+  EXPECT_EQ(continued.restarted_from_step, 150);
+  const std::string particles = file_text("drop-whole", "particles.csv");
+  EXPECT_GT(particles.size(), 1000u);
+  EXPECT_EQ(particles, file_text("drop-parts", "particles.csv"));
+}
+
 // What the phases do not take is refused before any work, naming the parameter.
 std::string refusal(const std::function<void(Teuchos::ParameterList&)>& change) {
   auto list = testing::minimal_scene();
@@ -183,6 +202,97 @@ TEST(TwoPhase, BadInputIsRefusedByName) {
   // Phase 1 with one phase: said, not ignored.
   m = refusal([](auto& l) { l.sublist("Phases").set("Count", 1); });
   EXPECT_TRUE(has(m, "Phases/Phase 1 is given, but Phases/Count = 1")) << m;
+}
+
+// A round region and surface tension: what they do not take.
+TEST(TwoPhase, BadDropIsRefusedByName) {
+  const auto has = [](const std::string& message, const std::string& part) {
+    return message.find(part) != std::string::npos;
+  };
+  const auto round = [](Teuchos::ParameterList& l) {
+    auto& second = l.sublist("Phases").sublist("Phase 1");
+    second.remove("Region Low");
+    second.remove("Region High");
+    second.set("Region Centre", array<double>({0.5, 0.5}));
+    second.set("Region Radius", 0.25);
+  };
+  EXPECT_EQ(refusal(round), "");  // the minimal scene's cell is periodic, without walls or grains
+  EXPECT_EQ(refusal([&](auto& l) { round(l), l.sublist("Phases").set("Surface Tension", 0.07); }), "");
+  auto m = refusal([&](auto& l) { round(l), l.sublist("Phases").set("Surface Tension", -0.07); });
+  EXPECT_TRUE(has(m, "Surface Tension")) << m;
+  m = refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Region Radius", 0.25); });
+  EXPECT_TRUE(has(m, "either as a box (Region Low, Region High) or as a disc/sphere")) << m;
+  m = refusal([](auto& l) {
+    l.sublist("Phases").sublist("Phase 1").set("Region Centre", array<double>({0.5, 0.5}));
+  });
+  EXPECT_TRUE(has(m, "not both")) << m;
+  m = refusal([&](auto& l) { round(l), l.sublist("Phases").sublist("Phase 1").set("Region Radius", 0.0); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Region Radius = 0 must be positive")) << m;
+  m = refusal([&](auto& l) { round(l), l.sublist("Phases").sublist("Phase 1").set("Region Radius", -0.1); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Region Radius = -0.1 must be positive")) << m;
+  m = refusal([&](auto& l) { round(l), l.sublist("Phases").sublist("Phase 1").set("Region Radius", 0.6); });
+  EXPECT_TRUE(has(m, "narrower than the cell")) << m;
+  m = refusal([&](auto& l) {
+    round(l), l.sublist("Phases").sublist("Phase 1").set("Region Centre", array<double>({0.5}));
+  });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Region Centre must have one value per direction")) << m;
+  m = refusal([&](auto& l) {
+    round(l), l.sublist("Phases").sublist("Phase 1").set("Region Centre", array<double>({0.5, 1.5}));
+  });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Region Centre")) << m;
+  EXPECT_TRUE(has(m, "outside the cell")) << m;
+  m = refusal([](auto& l) {
+    auto& second = l.sublist("Phases").sublist("Phase 1");
+    second.remove("Region Low");
+    second.remove("Region High");
+  });
+  EXPECT_TRUE(has(m, "Phases/Phase 1 needs its region")) << m;
+  // Walls (or grains) carry no colour and there is no wetting yet.
+  m = refusal([&](auto& l) {
+    round(l), l.sublist("Phases").set("Surface Tension", 0.07);
+    l.sublist("Domain").set("Periodic", array<int>({1, 0}));
+    l.sublist("Walls").set("Type", std::string("channel"));
+  });
+  EXPECT_TRUE(has(m, "Phases/Surface Tension needs a cell periodic in every direction")) << m;
+  m = refusal([&](auto& l) { l.sublist("Phases").set("Count", 1), l.sublist("Phases").remove("Phase 1");
+                             l.sublist("Phases").set("Surface Tension", 0.07); });
+  EXPECT_TRUE(has(m, "Phases/Surface Tension acts between two phases")) << m;
+}
+
+// A disc between the lattice points holds no particle: refused when the
+// particles are made.
+TEST(TwoPhase, EmptyDiscIsRefused) {
+  const std::string m = testing::error_of<std::exception>([] {
+    testing::run_input("two_phase/laplace_drop.xml",
+                       {"Phases/Phase 1/Region Centre={4.0e-4, 4.0e-4}", "Phases/Phase 1/Region Radius=1.0e-6"},
+                       "empty-disc");
+  });
+  EXPECT_NE(m.find("Phases/Phase 1/Region Centre and Region Radius: the disc (sphere) holds no fluid particle"),
+            std::string::npos)
+      << m;
+}
+
+// Laplace's law (issue 29): the 2D drop of input/two_phase/laplace_drop.xml
+// (R = 20 spacings, sigma / R = 5 Pa) at rest, solved for its steady state.
+// The pressure jump within 2 % of sigma / R, the largest speed left below
+// 1e-4 sigma / mu, and each phase's mass that of its particles.
+TEST(TwoPhase, DropAtRestKeepsLaplacesJump) {
+  const RunReport report = run_input("two_phase/laplace_drop.xml", {}, "laplace-drop");
+  ASSERT_TRUE(report.capillary.measured);
+  const double sigma = 1e-3, R = 2e-4;
+  EXPECT_DOUBLE_EQ(report.capillary.laplace_pressure, sigma / R);
+  EXPECT_NEAR(report.capillary.pressure_jump / (sigma / R), 1.0, 0.02)
+      << "jump " << report.capillary.pressure_jump << " Pa";
+  EXPECT_LT(report.capillary.capillary_number, 1e-4) << "max |v| mu / sigma";
+  // Fixed particles never change phase nor mass: each phase's mass is its
+  // lattice points' count times rho0 dx^2, whatever the run did.
+  ASSERT_EQ(report.phases.size(), 2u);
+  const double dx = 1e-5, particle = 1000.0 * dx * dx;
+  const double drop_particles = report.phases[1].mass / particle, all = 80.0 * 80.0;
+  // (to the round-off of summing the particles' masses)
+  EXPECT_NEAR(drop_particles, std::round(drop_particles), 1e-10 * drop_particles);
+  EXPECT_NEAR(report.phases[0].mass / particle + drop_particles, all, 1e-10 * all);
+  EXPECT_NEAR(drop_particles / (M_PI * 20 * 20), 1.0, 0.01);  // the disc's lattice points
 }
 
 }  // namespace

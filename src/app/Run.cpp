@@ -196,10 +196,19 @@ JsonObject RunReport::to_json() const {
           .add("superficial_velocity", phase.superficial_velocity)
           .add("axis", std::string(1, "xyz"[phase.axis]));
       if (phase.has_relative_permeability) entry.add("relative_permeability", phase.relative_permeability);
+      entry.add("mass", phase.mass);
       entries.push_back(entry);
     }
     json.add("phases", entries);
   }
+  if (capillary.measured)
+    json.add("capillary", JsonObject()
+                              .add("inside_pressure", capillary.inside_pressure)
+                              .add("outside_pressure", capillary.outside_pressure)
+                              .add("pressure_jump", capillary.pressure_jump)
+                              .add("laplace_pressure", capillary.laplace_pressure)
+                              .add("max_speed", capillary.max_speed)
+                              .add("capillary_number", capillary.capillary_number));
   if (has_permeability) {
     const char* axis = "xyz";
     JsonObject k, u;

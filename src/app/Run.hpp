@@ -76,6 +76,8 @@ struct RunReport {
   std::vector<ProfileSample> profile_samples;
   // Two fluids: each phase's saturation, superficial velocity and k_r (diagnostics/PhaseProbe.hpp).
   std::vector<PhaseMeasure> phases;
+  // A drop (Phases/Phase 1 round, Phases/Surface Tension > 0): its pressure jump against Laplace's law.
+  CapillaryMeasure capillary;
 
   // Porous-media measures (present when the scene is driven by a body force).
   bool has_permeability = false;

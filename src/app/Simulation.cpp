@@ -16,6 +16,7 @@
 #include "physics/Density.hpp"
 #include "physics/LevelStart.hpp"
 #include "physics/PredictorCorrector.hpp"
+#include "physics/SurfaceTension.hpp"
 
 namespace poresph {
 
@@ -231,6 +232,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     particles_.keep_phase();
     for (size_t p = 0; p < scene.phases.size(); ++p)
       fluid_.phase_kinematic_viscosity[p] = scene.phases[p].kinematic_viscosity;
+    if (scene.surface_tension > 0) particles_.keep_surface_acceleration();
   }
   if (start == Start::Empty) return;
 
@@ -251,6 +253,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     throw std::invalid_argument(msg.str());
   }
   if (scene.has_phases()) place_phases();
+  if (scene.surface_tension > 0) place_surface_tension();
   if (scene.moving_grains()) start_moving_grains();
   compute_rates();
   if (rigid_grains_.moving()) rigid_grains_.take_loads(particles_, comm_);
@@ -276,11 +279,58 @@ void Simulation<Dim, ExecSpace>::place_phases() {
   for (size_t p = 1; p < counts.size(); ++p)
     if (comm_.sum(counts[p]) == 0) {
       std::ostringstream msg;
-      msg << "Phases/Phase " << p << "/Region Low and Region High: the box holds no fluid particle at "
-          << "Discretization/Particle Spacing = " << scene_.particle_spacing
+      if (scene_.phases[p].round())
+        msg << "Phases/Phase " << p << "/Region Centre and Region Radius: the disc (sphere) holds no fluid particle";
+      else
+        msg << "Phases/Phase " << p << "/Region Low and Region High: the box holds no fluid particle";
+      msg << " at Discretization/Particle Spacing = " << scene_.particle_spacing
           << " (it lies between lattice points, or in a grain or a wall); enlarge it";
       throw std::invalid_argument(msg.str());
     }
+}
+
+// The surface tension's acceleration of each owned fluid particle, once
+// (physics/SurfaceTension.hpp): the colour of every lattice point is the
+// scene's (phase_at, phase_one_fraction), so that no ghost is needed.
+// Surface tension is only taken in a periodic cell without boundary
+// particles (scene/SceneBuilder.cpp), where every lattice point is fluid.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::place_surface_tension() {
+  const double dx = scene_.particle_spacing;
+  std::array<long long, Dim> cells{};
+  for (int d = 0; d < Dim; ++d) cells[d] = std::llround(scene_.cell_size[d] / dx);
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
+  std::vector<std::array<long long, Dim>> points(particles_.owned);
+  for (int i = 0; i < particles_.owned; ++i)
+    for (int d = 0; d < Dim; ++d)
+      points[i][d] = ((static_cast<long long>(std::floor(x(i, d) / dx)) % cells[d]) + cells[d]) % cells[d];
+  // Sub-cells per axis for a disc's (sphere's) share of a lattice cell: its
+  // sampling error in the colour stays below 1/samples^Dim of a cell.
+  const int samples = Dim == 2 ? 16 : 8;
+  const bool fraction = scene_.colour == ColourFunction::VolumeFraction;
+  const auto colour = [&](const std::array<long long, Dim>& i) {
+    double at[Dim];
+    for (int d = 0; d < Dim; ++d) at[d] = (static_cast<double>(i[d]) + 0.5) * dx;
+    return fraction ? phase_one_fraction(scene_, at, dx, samples) : (phase_at(scene_, at) == 1 ? 1.0 : 0.0);
+  };
+  const auto geometry = interface_geometry<Dim>(points, cells, dx, derived_.smoothing_length, colour);
+  auto acceleration = Kokkos::create_mirror_view(particles_.surface_acceleration);
+  for (int i = 0; i < particles_.owned; ++i) {
+    const Vec<Dim> a = surface_tension_acceleration<Dim>(scene_.surface_tension, geometry[i].smoothed_curvature,
+                                                         geometry[i].normal, scene_.density);
+    for (int d = 0; d < Dim; ++d) acceleration(i, d) = a[d];
+  }
+  Kokkos::deep_copy(particles_.surface_acceleration, acceleration);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::add_surface_tension() {
+  const auto dvdt = particles_.dvdt, acceleration = particles_.surface_acceleration;
+  static const std::string label = "poresph::add_surface_tension";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned), KOKKOS_LAMBDA(int a) {
+        for (int d = 0; d < Dim; ++d) dvdt(a, d) += acceleration(a, d);
+      });
 }
 
 template <int Dim, class ExecSpace>
@@ -589,6 +639,7 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::finish_stage() {
   finish_pair_rates(space_, particles_, neighbourhood_.list(), pair_sums_, fluid_, body_force_, pair_options_,
                     no_slip_factors_);
+  if (particles_.has_surface_acceleration) add_surface_tension();
   space_.fence();
 }
 

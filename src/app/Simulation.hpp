@@ -66,6 +66,7 @@ class Simulation {
   using ExecutionSpace = ExecSpace;
   using MemorySpace = typename ExecSpace::memory_space;
   using ParticleSet = Particles<Dim, MemorySpace>;
+  static constexpr int dimension = Dim;
 
   // A fresh run starts from the lattice, on boxes from the scene's
   // decomposition. A restart passes the saved boxes (empty: decompose for
@@ -260,6 +261,8 @@ class Simulation {
   void grain_loads_stage();      // "grain loads": the fluid's force and torque on them, their accelerations
   void grains_correct_stage();   // "grains correct": the whole step, their particles placed
   void place_phases();           // at set-up: each particle's phase from its lattice point
+  void place_surface_tension();  // at set-up: each fluid particle's surface-tension acceleration
+  void add_surface_tension();    // in the finish: that acceleration into dv/dt
   void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity
   void couple_grains();          // the fluid's share of the body force, the loads, the spins in the no-slip
   void place_grains();           // the grains' particles where the grains are, and the solid map with them

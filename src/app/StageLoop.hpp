@@ -355,6 +355,7 @@ class StageLoop {
     for (const auto& o : observers_) o->report(observed);
     record_health(report, observed.health);
     if (!observed.phases.empty()) report.phases = observed.phases;
+    if (observed.capillary.measured) report.capillary = observed.capillary;
     if (observed.channel) {
       report.channel = true;
       report.profile_error = observed.profile_error;

@@ -37,7 +37,7 @@ struct HealthRecord {
 
 // One fluid phase's volume and its volume flux along an axis (m^Dim, m^(Dim+1)/s).
 struct PhaseSums {
-  double volume = 0, flux = 0;
+  double volume = 0, flux = 0, mass = 0;
 };
 // What a run measured of one fluid phase (diagnostics/PhaseProbe.hpp).
 struct PhaseMeasure {
@@ -47,6 +47,17 @@ struct PhaseMeasure {
   double superficial_velocity = 0;   // its volume flux over the cell's volume (m/s)
   bool has_relative_permeability = false;
   double relative_permeability = 0;  // with Phases/Single Phase Permeability
+  double mass = 0;                   // of its particles (kg per m^(3-Dim)); fixed particles keep it exactly
+};
+// A round phase-1 region (a drop) against Laplace's law (diagnostics/PhaseProbe.hpp).
+struct CapillaryMeasure {
+  bool measured = false;
+  double inside_pressure = 0;   // mean p of phase 1 at r < R - 3h (Pa)
+  double outside_pressure = 0;  // mean p of phase 0 at r > R + 3h (Pa)
+  double pressure_jump = 0;     // inside less outside
+  double laplace_pressure = 0;  // sigma / R (2D), 2 sigma / R (3D)
+  double max_speed = 0;         // largest |v| of a fluid particle (m/s)
+  double capillary_number = 0;  // max_speed mu / sigma, mu the larger dynamic viscosity
 };
 
 // What a stage's observers measured, however the stage ended: what each
@@ -64,6 +75,7 @@ struct StageObservations {
   double relative_change = 0, remaining_change = 0;
   // Two fluids: each phase at the end of the stage (empty: one fluid, or not measured).
   std::vector<PhaseMeasure> phases;
+  CapillaryMeasure capillary;
 };
 
 // Where a run stands, for the progress line (io/ProgressLine.hpp).

@@ -3,16 +3,24 @@
 // saturation (the fraction of the fluid volume it holds), its superficial
 // velocity along the driven axis (its volume flux over the cell's whole
 // volume) and, given Phases/Single Phase Permeability, its relative
-// permeability k_r = (U_p mu_p / (rho_p |F|)) / k, for summary.json.
+// permeability k_r = (U_p mu_p / (rho_p |F|)) / k, and its mass, for
+// summary.json; with surface tension and a round phase-1 region (a drop),
+// the pressure jump across its surface against Laplace's law and the
+// largest speed (the spurious currents of a drop at rest).
 #include <Kokkos_Core.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "core/Kernel.hpp"
 #include "core/Particles.hpp"
 #include "diagnostics/Observer.hpp"
 #include "diagnostics/StageSetting.hpp"
+#include "physics/PairTerms.hpp"
+#include "scene/SceneConfig.hpp"
 
 namespace poresph {
 
@@ -26,7 +34,8 @@ PhaseSums phase_sums(const ParticleSet& P, int phase, double rho0, int axis) {
   const auto v = P.v;
   PhaseSums sums;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(ExecSpace(), 0, P.owned);
-  static const std::string volume_label = "poresph::phase_volume", flux_label = "poresph::phase_flux";
+  static const std::string volume_label = "poresph::phase_volume", flux_label = "poresph::phase_flux",
+                           mass_label = "poresph::phase_mass";
   Kokkos::parallel_reduce(
       volume_label, policy,
       KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) / rho0 : 0.0; },
@@ -37,7 +46,51 @@ PhaseSums phase_sums(const ParticleSet& P, int phase, double rho0, int axis) {
         sum += kind(i) == kFluid && which(i) == phase ? m(i) / rho0 * v(i, axis) : 0.0;
       },
       sums.flux);
+  Kokkos::parallel_reduce(
+      mass_label, policy,
+      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) : 0.0; }, sums.mass);
   return sums;
+}
+
+// The drop's pressures: the mean p of phase 1 at r < R - 3h and of phase 0
+// at r > R + 3h from the region's centre (its nearest image), beyond the
+// kernel's reach of the interface; and the largest speed of the fluid.
+template <class Sim>
+CapillaryMeasure measure_capillary(const Sim& sim, const SceneConfig& scene) {
+  constexpr int Dim = Sim::dimension;
+  const auto& P = sim.particles();
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
+  const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.v);
+  const auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.rho);
+  const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
+  const auto phase = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.phase);
+  const PhaseConfig& drop = scene.phases[1];
+  const double c2 = sim.derived().sound_speed * sim.derived().sound_speed;
+  const double reach = kSupportRadiusInH * sim.derived().smoothing_length;
+  double sums[4] = {0, 0, 0, 0}, speed = 0;  // inside p and count, outside p and count
+  for (int i = 0; i < P.owned; ++i) {
+    if (kind(i) != kFluid) continue;
+    double at[3] = {0, 0, 0}, v2 = 0;
+    for (int d = 0; d < Dim; ++d) at[d] = x(i, d), v2 += v(i, d) * v(i, d);
+    speed = std::max(speed, std::sqrt(v2));
+    const double r = distance_to_centre(scene, drop, at), p = pressure_from_density(rho(i), c2);
+    if (phase(i) == 1 && r < drop.region_radius - reach) sums[0] += p, sums[1] += 1;
+    if (phase(i) == 0 && r > drop.region_radius + reach) sums[2] += p, sums[3] += 1;
+  }
+  CapillaryMeasure c;
+  for (double& s : sums) s = sim.communicator().sum(s);
+  speed = sim.communicator().max(speed);
+  if (!(sums[1] > 0) || !(sums[3] > 0)) return c;  // a drop too small (or too large) for its interior
+  c.measured = true;
+  c.inside_pressure = sums[0] / sums[1];
+  c.outside_pressure = sums[2] / sums[3];
+  c.pressure_jump = c.inside_pressure - c.outside_pressure;
+  c.laplace_pressure = (Dim - 1) * scene.surface_tension / drop.region_radius;
+  c.max_speed = speed;
+  double mu = 0;
+  for (const auto& p : scene.phases) mu = std::max(mu, p.density * p.kinematic_viscosity);
+  c.capillary_number = speed * mu / scene.surface_tension;
+  return c;
 }
 
 // The phases' measures of a simulation now (summed over processes).
@@ -52,6 +105,7 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
     PhaseSums s = phase_sums<ExecSpace>(sim.particles(), p, scene.phases[p].density, axis);
     s.volume = sim.communicator().sum(s.volume);
     s.flux = sim.communicator().sum(s.flux);
+    s.mass = sim.communicator().sum(s.mass);
     fluid += s.volume;
     sums.push_back(s);
   }
@@ -63,6 +117,7 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
     m.axis = axis;
     m.saturation = sums[p].volume / fluid;
     m.superficial_velocity = sums[p].flux / cell;
+    m.mass = sums[p].mass;
     // The phase's own Darcy k (its viscous pull against the force on it, per
     // unit volume rho_p |F|): mu_p / (rho_p |F|) = nu_p / |F| at rho_p.
     m.has_relative_permeability = k > 0 && force > 0;
@@ -83,13 +138,20 @@ class PhaseProbe : public Observer<Sim> {
     if (!s.scene.has_phases()) return nullptr;
     return std::make_unique<PhaseProbe>(s.scene, s.force_axis >= 0 ? s.force_axis : 0);
   }
-  void at_end(Sim& sim) override { measures_ = measure_phases(sim, scene_, axis_); }
-  void report(StageObservations& o) const override { o.phases = measures_; }
+  void at_end(Sim& sim) override {
+    measures_ = measure_phases(sim, scene_, axis_);
+    if (scene_.surface_tension > 0 && scene_.phases[1].round()) capillary_ = measure_capillary(sim, scene_);
+  }
+  void report(StageObservations& o) const override {
+    o.phases = measures_;
+    o.capillary = capillary_;
+  }
 
  private:
   const SceneConfig& scene_;
   int axis_;
   std::vector<PhaseMeasure> measures_;
+  CapillaryMeasure capillary_;
 };
 
 }  // namespace poresph

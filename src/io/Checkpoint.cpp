@@ -93,8 +93,17 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
     const PhaseConfig& second = scene.phases[1];
     entries.emplace_back("Phases/Count", std::to_string(scene.phases.size()));
     entries.emplace_back("Phases/Phase 1/Kinematic Viscosity", number(second.kinematic_viscosity));
-    entries.emplace_back("Phases/Phase 1/Region Low", list(second.region_low.data(), D));
-    entries.emplace_back("Phases/Phase 1/Region High", list(second.region_high.data(), D));
+    if (second.round()) {
+      entries.emplace_back("Phases/Phase 1/Region Centre", list(second.region_centre.data(), D));
+      entries.emplace_back("Phases/Phase 1/Region Radius", number(second.region_radius));
+    } else {
+      entries.emplace_back("Phases/Phase 1/Region Low", list(second.region_low.data(), D));
+      entries.emplace_back("Phases/Phase 1/Region High", list(second.region_high.data(), D));
+    }
+    if (scene.surface_tension > 0) {
+      entries.emplace_back("Phases/Surface Tension", number(scene.surface_tension));
+      entries.emplace_back("Phases/Colour", scene.colour == ColourFunction::Phase ? "phase" : "volume fraction");
+    }
   }
   // The image by its shape, voxel size, solid values and a checksum of its
   // voxels (after Image/Mirror): another image, or the same read otherwise,

@@ -153,8 +153,8 @@ RCP<ParameterList> make_valid_parameters() {
                             "0 is the Fluid sublist's fluid and fills the cell but for the region of phase 1, which "
                             "is set once at the start (a particle never changes phase). The viscous term between "
                             "two particles takes the harmonic mean of their dynamic viscosities, which keeps the "
-                            "shear stress continuous across an interface (docs/method.md). No surface tension yet: "
-                            "the two fluids meet without one.");
+                            "shear stress continuous across an interface (docs/method.md). With Surface Tension > 0 "
+                            "the interface pulls by the continuum surface force; no wetting yet.");
     s.set("Count", 1,
           "Number of fluid phases: 1 (the Fluid sublist's alone; the rest of this sublist must be left out) or 2.",
           int_in(1, 2));
@@ -163,7 +163,20 @@ RCP<ParameterList> make_valid_parameters() {
           "reports each phase's relative permeability k_r = (superficial velocity x dynamic viscosity / (density "
           "x |body force|)) / k. 0: no k_r.",
           real_in(0.0, kHuge));
-    auto& p = s.sublist("Phase 1", false, "The second fluid and the box it fills (with Count = 2).");
+    s.set("Surface Tension", 0.0,
+          "Surface tension sigma between the two phases (N/m), >= 0; 0: none. The continuum surface force "
+          "sigma kappa n / rho of Morris (2000) from a colour function on the fixed lattice, computed once at "
+          "set-up (docs/method.md). Needs Count = 2, a cell periodic in every direction and no grains, image "
+          "or walls (no wetting yet).",
+          real_in(0.0, kHuge));
+    s.set("Colour", std::string("volume fraction"),
+          "The colour function the surface tension's normals and curvature are taken from: 'volume fraction' "
+          "(each particle's share of its lattice cell that phase 1's region covers) or 'phase' (its phase, 0 "
+          "or 1: a staircase on the lattice; docs/method.md compares them).",
+          one_of({"volume fraction", "phase"}));
+    auto& p = s.sublist("Phase 1", false,
+                        "The second fluid and the region it fills (with Count = 2): a box (Region Low, Region "
+                        "High) or a disc/sphere (Region Centre, Region Radius), not both.");
     p.set("Name", std::string("phase 1"), "Name of the phase in summary.json (phase 0 is 'fluid').");
     p.set("Density", 0.0,
           "Reference density of the phase (kg/m^3). 0: Fluid/Density. Only a density ratio of 1 is supported "
@@ -174,11 +187,17 @@ RCP<ParameterList> make_valid_parameters() {
           "its density times nu.",
           real_in(0.0, kHuge));
     p.set("Region Low", Array<double>(),
-          "REQUIRED with Count = 2. Lower corner of the axis-aligned box [low, high) the phase fills, one value "
-          "per direction, inside the cell: a particle whose lattice point lies in the box is of this phase.",
+          "Lower corner of the axis-aligned box [low, high) the phase fills, one value per direction, inside "
+          "the cell: a particle whose lattice point lies in the box is of this phase. With Count = 2, the box "
+          "or Region Centre and Region Radius is required.",
           reals_in(-kHuge, kHuge));
-    p.set("Region High", Array<double>(), "REQUIRED with Count = 2. Upper corner of the box (see Region Low).",
+    p.set("Region High", Array<double>(), "Upper corner of the box (see Region Low).", reals_in(-kHuge, kHuge));
+    p.set("Region Centre", Array<double>(),
+          "Centre of the disc (2D) or sphere (3D) the phase fills instead of a box, one value per direction, "
+          "inside the cell: a particle whose lattice point lies closer to it than Region Radius (across "
+          "periodic faces, to the nearest image) is of this phase.",
           reals_in(-kHuge, kHuge));
+    p.set("Region Radius", 0.0, "Radius of the disc or sphere (m), > 0 with Region Centre.", real_in(-kHuge, kHuge));
   }
   {
     auto& s = list->sublist("Grains", false, "Soil grains: circles in 2D, spheres in 3D. They may cross the periodic "

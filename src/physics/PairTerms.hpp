@@ -98,6 +98,34 @@ KOKKOS_FORCEINLINE_FUNCTION Vec<Dim> convective_acceleration(double V_b, const V
 // are V_b F_ab times r_ab, the weight given here.
 KOKKOS_FORCEINLINE_FUNCTION double volume_gradient_weight(double V_b, double F_ab) { return V_b * F_ab; }
 
+// Surface tension by the continuum surface force (Morris 2000; Adami, Hu &
+// Adams 2010), one neighbour's share of each sum (physics/SurfaceTension.hpp).
+// The colour gradient n_a = sum_b V_b (c_b - c_a) grad_a W_ab: on a full
+// lattice it is the very operator the symmetric pressure term applies to
+// p (sum_b V_b grad_a W_ab = 0 there), so that a force sigma kappa n with
+// kappa uniform is balanced by a pressure sigma kappa c exactly.
+template <int Dim>
+KOKKOS_INLINE_FUNCTION Vec<Dim> colour_gradient_share(double V_b, double c_a, double c_b, const Vec<Dim>& r_ab,
+                                                      double F_ab) {
+  return (V_b * (c_b - c_a) * F_ab) * r_ab;
+}
+// The divergence of the unit normal, sum_b V_b (nhat_b - nhat_a) . grad_a W_ab,
+// over the neighbours b whose normal passes Morris's filter; kappa_a is
+// minus it over the same neighbours' Shepard sum sum_b V_b W_ab (self
+// included), which makes up for the neighbours left out (Morris 2000).
+template <int Dim>
+KOKKOS_INLINE_FUNCTION double normal_divergence_share(double V_b, const Vec<Dim>& nhat_a, const Vec<Dim>& nhat_b,
+                                                      const Vec<Dim>& r_ab, double F_ab) {
+  return V_b * F_ab * dot(nhat_b - nhat_a, r_ab);
+}
+KOKKOS_INLINE_FUNCTION double curvature_from_sums(double divergence, double shepard) { return -divergence / shepard; }
+// The acceleration of the force per volume sigma kappa n on a fluid of density rho.
+template <int Dim>
+KOKKOS_INLINE_FUNCTION Vec<Dim> surface_tension_acceleration(double sigma, double kappa, const Vec<Dim>& n,
+                                                             double rho) {
+  return (sigma * kappa / rho) * n;
+}
+
 // Weakly compressible equation of state of the paper: p = c^2 rho.
 KOKKOS_FORCEINLINE_FUNCTION double pressure_from_density(double rho, double sound_speed_sq) { return sound_speed_sq * rho; }
 

@@ -273,13 +273,18 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const auto& second = phases.sublist("Phase 1");
   const double nu = second.get<double>("Kinematic Viscosity"), density = second.get<double>("Density");
   const auto low = second.get<Array<double>>("Region Low"), high = second.get<Array<double>>("Region High");
+  const auto centre = second.get<Array<double>>("Region Centre");
+  const double radius = second.get<double>("Region Radius");
   const double k = phases.get<double>("Single Phase Permeability");
+  const double sigma = phases.get<double>("Surface Tension");
   if (count == 1) {
-    if (nu != 0 || density != 0 || !low.empty() || !high.empty() || second.get<std::string>("Name") != "phase 1")
+    if (nu != 0 || density != 0 || !low.empty() || !high.empty() || !centre.empty() || radius != 0 ||
+        second.get<std::string>("Name") != "phase 1")
       fail("Phases/Phase 1 is given, but Phases/Count = 1 (the Fluid sublist's fluid alone): set Phases/Count = 2, "
            "or leave Phases/Phase 1 out");
     if (k != 0)
       fail("Phases/Single Phase Permeability gives the relative permeabilities of two phases, and Phases/Count = 1");
+    if (sigma != 0) fail("Phases/Surface Tension acts between two phases, and Phases/Count = 1");
     return;
   }
   const int dim = scene.dimension;
@@ -295,11 +300,13 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
         << scene.density << ": only a density ratio of 1 is supported for now (leave it 0, or give Fluid/Density)";
     fail(msg.str());
   }
-  for (const auto& [corner, values] : {std::pair<const char*, const Array<double>&>{"Region Low", low},
-                                       std::pair<const char*, const Array<double>&>{"Region High", high}})
-    if (static_cast<int>(values.size()) != dim)
-      fail(std::string("Phases/Phase 1/") + corner + " must have one value per direction (" + std::to_string(dim) +
-           "), got " + std::to_string(values.size()) + ": it is required with Phases/Count = 2");
+  const bool box = !low.empty() || !high.empty(), round = !centre.empty() || radius != 0;
+  if (box && round)
+    fail("Phases/Phase 1: give its region either as a box (Region Low, Region High) or as a disc/sphere (Region "
+         "Centre, Region Radius), not both");
+  if (!box && !round)
+    fail("Phases/Phase 1 needs its region with Phases/Count = 2: a box (Region Low, Region High) or a "
+         "disc/sphere (Region Centre, Region Radius)");
   PhaseConfig outside, inside;
   outside.name = "fluid";
   outside.density = scene.density;
@@ -307,18 +314,61 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   inside.name = second.get<std::string>("Name");
   inside.density = scene.density;
   inside.kinematic_viscosity = nu;
-  for (int d = 0; d < dim; ++d) {
-    const double L = scene.cell_size[d];
-    if (!(low[d] < high[d]))
-      fail("Phases/Phase 1/Region Low must lie below Region High in every direction (direction " +
-           std::to_string(d) + " is empty)");
-    if (low[d] < 0 || high[d] > L) {
+  if (box) {
+    for (const auto& [corner, values] : {std::pair<const char*, const Array<double>&>{"Region Low", low},
+                                         std::pair<const char*, const Array<double>&>{"Region High", high}})
+      if (static_cast<int>(values.size()) != dim)
+        fail(std::string("Phases/Phase 1/") + corner + " must have one value per direction (" + std::to_string(dim) +
+             "), got " + std::to_string(values.size()) + ": the box needs both corners");
+    for (int d = 0; d < dim; ++d) {
+      const double L = scene.cell_size[d];
+      if (!(low[d] < high[d]))
+        fail("Phases/Phase 1/Region Low must lie below Region High in every direction (direction " +
+             std::to_string(d) + " is empty)");
+      if (low[d] < 0 || high[d] > L) {
+        std::ostringstream msg;
+        msg << std::setprecision(10) << "Phases/Phase 1/Region Low and Region High: the box [" << low[d] << ", "
+            << high[d] << ") in direction " << d << " reaches outside the cell [0, " << L << ")";
+        fail(msg.str());
+      }
+      inside.region_low[d] = low[d], inside.region_high[d] = high[d];
+    }
+  } else {
+    if (static_cast<int>(centre.size()) != dim)
+      fail("Phases/Phase 1/Region Centre must have one value per direction (" + std::to_string(dim) + "), got " +
+           std::to_string(centre.size()));
+    if (!(radius > 0)) {
       std::ostringstream msg;
-      msg << std::setprecision(10) << "Phases/Phase 1/Region Low and Region High: the box [" << low[d] << ", "
-          << high[d] << ") in direction " << d << " reaches outside the cell [0, " << L << ")";
+      msg << std::setprecision(10) << "Phases/Phase 1/Region Radius = " << radius
+          << " must be positive (m): it is the disc's (sphere's) radius";
       fail(msg.str());
     }
-    inside.region_low[d] = low[d], inside.region_high[d] = high[d];
+    for (int d = 0; d < dim; ++d) {
+      if (centre[d] < 0 || centre[d] >= scene.cell_size[d]) {
+        std::ostringstream msg;
+        msg << std::setprecision(10) << "Phases/Phase 1/Region Centre: " << centre[d] << " in direction " << d
+            << " lies outside the cell [0, " << scene.cell_size[d] << ")";
+        fail(msg.str());
+      }
+      // Across a periodic face the nearest image is taken; it is unique only
+      // while the region is narrower than the cell.
+      if (2 * radius >= scene.cell_size[d]) {
+        std::ostringstream msg;
+        msg << std::setprecision(10) << "Phases/Phase 1/Region Radius = " << radius
+            << ": the disc (sphere) must be narrower than the cell (" << scene.cell_size[d] << " in direction " << d
+            << ")";
+        fail(msg.str());
+      }
+      inside.region_centre[d] = centre[d];
+    }
+    inside.region_radius = radius;
+  }
+  if (sigma > 0) {
+    bool all_periodic = true;
+    for (int d = 0; d < dim; ++d) all_periodic = all_periodic && scene.periodic[d];
+    if (scene.has_solid() || scene.walls != WallType::None || !all_periodic)
+      fail("Phases/Surface Tension needs a cell periodic in every direction without grains, an image or walls: "
+           "boundary particles carry no colour and there is no wetting yet");
   }
   if (scene.permeability_tensor)
     fail("Permeability/Tensor with Phases/Count = 2 is not supported: the phases report their flux along the one "
@@ -337,6 +387,8 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
          "Fluid/Body Force is zero");
   scene.phases = {outside, inside};
   scene.single_phase_permeability = k;
+  scene.surface_tension = sigma;
+  scene.colour = phases.get<std::string>("Colour") == "phase" ? ColourFunction::Phase : ColourFunction::VolumeFraction;
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // io layer knows about Teuchos and files; it fills this struct, which the
 // geometry, physics and app layers read (hence its own folder, below them
 // all but core).
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -57,14 +58,22 @@ struct ImageConfig {
 
 // A fluid phase besides the Fluid sublist's (the Phases sublist). Phase 0
 // is that fluid and fills whatever no other phase's region claims; phase p
-// >= 1 fills its box [region_low, region_high), set once on the fixed
-// lattice (particles never change phase: they never move).
+// >= 1 fills its region, set once on the fixed lattice (particles never
+// change phase: they never move): the box [region_low, region_high), or
+// with region_radius > 0 the disc (sphere) of that radius about
+// region_centre, its distance taken across periodic faces (the nearest image).
 struct PhaseConfig {
   std::string name;
   double density = 0;              // kg/m^3
   double kinematic_viscosity = 0;  // m^2/s
   std::array<double, 3> region_low{}, region_high{};  // phase 0: unused
+  std::array<double, 3> region_centre{};
+  double region_radius = 0;  // > 0: a disc (sphere), not a box
+  bool round() const { return region_radius > 0; }
 };
+
+// How the surface tension's colour function is made (Phases/Colour, physics/SurfaceTension.hpp).
+enum class ColourFunction { VolumeFraction, Phase };
 
 enum class ProgressMode { Auto, Always, Never };
 // How particles move. Fixed: they stay on their lattice and only velocity
@@ -147,6 +156,10 @@ struct SceneConfig {
   // region. Empty: one fluid, and none of the phases' machinery runs.
   std::vector<PhaseConfig> phases;
   double single_phase_permeability = 0;  // Phases/Single Phase Permeability (m^2); 0: not given, no k_r
+  // Phases/Surface Tension sigma between the two phases (N/m); 0: none, and
+  // none of its machinery runs (physics/SurfaceTension.hpp).
+  double surface_tension = 0;
+  ColourFunction colour = ColourFunction::VolumeFraction;
   bool has_phases() const { return !phases.empty(); }
 
   WallType walls = WallType::None;
@@ -199,17 +212,67 @@ struct SceneConfig {
   SteadyOptions solver;
 };
 
+// The distance from x to a round region's centre, across periodic faces
+// to the nearest image of the centre.
+inline double distance_to_centre(const SceneConfig& scene, const PhaseConfig& phase, const double* x) {
+  double sum = 0;
+  for (int d = 0; d < scene.dimension; ++d) {
+    double s = x[d] - phase.region_centre[d];
+    const double L = scene.cell_size[d];
+    if (scene.periodic[d] && L > 0) s -= L * std::round(s / L);
+    sum += s * s;
+  }
+  return std::sqrt(sum);
+}
+
+// Whether x lies in phase p's region (p >= 1).
+inline bool in_phase_region(const SceneConfig& scene, int p, const double* x) {
+  const PhaseConfig& phase = scene.phases[p];
+  if (phase.round()) return distance_to_centre(scene, phase, x) < phase.region_radius;
+  bool inside = true;
+  for (int d = 0; d < scene.dimension; ++d)
+    inside = inside && x[d] >= phase.region_low[d] && x[d] < phase.region_high[d];
+  return inside;
+}
+
 // The phase of a particle at x (in the cell): the last phase whose region
 // holds x, phase 0 where none does.
 inline int phase_at(const SceneConfig& scene, const double* x) {
   int phase = 0;
-  for (int p = 1; p < static_cast<int>(scene.phases.size()); ++p) {
-    bool inside = true;
-    for (int d = 0; d < scene.dimension; ++d)
-      inside = inside && x[d] >= scene.phases[p].region_low[d] && x[d] < scene.phases[p].region_high[d];
-    if (inside) phase = p;
-  }
+  for (int p = 1; p < static_cast<int>(scene.phases.size()); ++p)
+    if (in_phase_region(scene, p, x)) phase = p;
   return phase;
+}
+
+// The share of the lattice cell of side dx about x that phase 1's region
+// covers: exact for a box, sampled at samples^Dim points for a disc
+// (sphere) where the cell meets its surface (scene with two phases).
+inline double phase_one_fraction(const SceneConfig& scene, const double* x, double dx, int samples) {
+  const PhaseConfig& phase = scene.phases[1];
+  const int dim = scene.dimension;
+  if (!phase.round()) {
+    double fraction = 1;
+    for (int d = 0; d < dim; ++d) {
+      // x is a lattice point of the cell: its lattice cell lies in [0, L), as the box does.
+      const double overlap =
+          std::min(x[d] + 0.5 * dx, phase.region_high[d]) - std::max(x[d] - 0.5 * dx, phase.region_low[d]);
+      fraction *= std::max(0.0, overlap) / dx;
+    }
+    return fraction;
+  }
+  const double r = distance_to_centre(scene, phase, x), half_diagonal = 0.5 * dx * std::sqrt(double(dim));
+  if (r + half_diagonal < phase.region_radius) return 1.0;
+  if (r - half_diagonal >= phase.region_radius) return 0.0;
+  long long inside = 0, total = 1;
+  for (int d = 0; d < dim; ++d) total *= samples;
+  for (long long k = 0; k < total; ++k) {
+    double at[3];
+    long long rest = k;
+    for (int d = 0; d < dim; ++d, rest /= samples)
+      at[d] = x[d] + ((rest % samples) + 0.5) / samples * dx - 0.5 * dx;
+    inside += distance_to_centre(scene, phase, at) < phase.region_radius;
+  }
+  return static_cast<double>(inside) / static_cast<double>(total);
 }
 
 // |F|, the body force's magnitude.
