@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/Particles.hpp"
 #include "io/Hdf5File.hpp"
 #include "scene/SceneConfig.hpp"
 #include "io/Summary.hpp"
@@ -80,6 +81,7 @@ class FieldWriter {
       if (wants("kind")) file.write_rows("kind", owned_rows(P.kind, n).data(), n, 0);
       if (wants("grain")) file.write_rows("grain", owned_rows(sim.grain_ids(), n).data(), n, 0);
       if (wants("id")) file.write_rows("id", owned_rows(P.id, n).data(), n, 0);
+      if (wants("phase")) file.write_rows("phase", fluid_phases(P, n).data(), n, 0);
       if (!scene_.grid_points.empty()) write_grid(file, block, grid_values);
       if (scene_.moving_grains()) write_grains(file, sim.rigid_grains().bodies(), comm.rank() == 0);
     });
@@ -105,6 +107,17 @@ class FieldWriter {
   }
 
  private:
+  // Each owned particle's phase for the field files: a fluid particle's
+  // phase, -1 for a boundary particle (which belongs to no phase).
+  template <class ParticleSet>
+  static std::vector<int> fluid_phases(const ParticleSet& P, int n) {
+    auto phase = owned_rows(P.phase, n);
+    const auto kind = owned_rows(P.kind, n);
+    for (int i = 0; i < n; ++i)
+      if (kind[i] != kFluid) phase[i] = -1;
+    return phase;
+  }
+
   // A coordinate along d wrapped into the cell where d is periodic.
   double wrapped(double value, int d) const {
     return scene_.periodic[d] ? value - scene_.cell_size[d] * std::floor(value / scene_.cell_size[d]) : value;
@@ -187,6 +200,7 @@ class FieldWriter {
       if (f == "kind") frame.attributes.push_back({"kind", "/kind", scalar, false, true, 4});
       if (f == "grain") frame.attributes.push_back({"grain", "/grain", scalar, false, true, 4});
       if (f == "id") frame.attributes.push_back({"id", "/id", scalar, false, true, 8});
+      if (f == "phase") frame.attributes.push_back({"phase", "/phase", scalar, false, true, 4});
     }
     particle_frames_.push_back(frame);
     if (scene_.moving_grains()) {

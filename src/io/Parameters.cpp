@@ -461,7 +461,8 @@ RCP<ParameterList> make_valid_parameters() {
           real_in(0.0, kHuge));
     s.set("Fields", std::string("velocity density pressure kind grain id"),
           "Particle fields in each field file, separated by spaces or commas, out of: velocity density "
-          "pressure kind grain id. Positions are always written.");
+          "pressure kind grain id phase (with Phases/Count = 2: a fluid particle's phase, 0 or 1; -1 for "
+          "boundary particles). Positions are always written.");
     s.set("Grid Points", Array<int>(),
           "Points per direction of a regular grid of the cell on which the SPH-interpolated velocity and "
           "pressure are written with each field file (ParaView shows it as an image). Empty: no grid.",

@@ -610,9 +610,9 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
       if (c == ',') c = ' ';
     std::istringstream in(words);
     for (std::string word; in >> word;) {
-      static const char* const known[] = {"velocity", "density", "pressure", "kind", "grain", "id"};
+      static const char* const known[] = {"velocity", "density", "pressure", "kind", "grain", "id", "phase"};
       if (std::find(std::begin(known), std::end(known), word) == std::end(known))
-        fail("Output/Fields: unknown field '" + word + "' (known: velocity density pressure kind grain id)");
+        fail("Output/Fields: unknown field '" + word + "' (known: velocity density pressure kind grain id phase)");
       if (std::find(scene.fields.begin(), scene.fields.end(), word) == scene.fields.end())
         scene.fields.push_back(word);
     }
@@ -634,6 +634,8 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
     fail("Diagnostics/Profile Sample Times compares a channel's velocity profile with its series solution, and this "
          "scene has no channel (Walls/Type = channel): leave it empty");
   read_phases(list, scene);
+  if (!scene.has_phases() && std::find(scene.fields.begin(), scene.fields.end(), "phase") != scene.fields.end())
+    fail("Output/Fields names 'phase', and the scene has one fluid (set Phases/Count = 2, or leave it out)");
   return scene;
 }
 
