@@ -196,7 +196,7 @@ JsonObject RunReport::to_json() const {
           .add("superficial_velocity", phase.superficial_velocity)
           .add("axis", std::string(1, "xyz"[phase.axis]));
       if (phase.has_relative_permeability) entry.add("relative_permeability", phase.relative_permeability);
-      entry.add("mass", phase.mass);
+      entry.add("mass", phase.mass).add("mean_pressure", phase.mean_pressure);
       entries.push_back(entry);
     }
     json.add("phases", entries);

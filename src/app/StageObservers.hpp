@@ -14,6 +14,7 @@
 #include "io/Checkpoints.hpp"
 #include "io/FieldFrames.hpp"
 #include "io/GrainsHistory.hpp"
+#include "io/PhasesHistory.hpp"
 #include "io/ProgressLine.hpp"
 #include "io/SurfaceForcesFile.hpp"
 
@@ -25,6 +26,7 @@ const std::vector<ObserverMaker<Sim>>& stage_observers() {
       &ChannelProbe<Sim>::make,  &HealthWatch<Sim>::make, &PermeabilityProbe<Dim, Sim>::make, &PhaseProbe<Sim>::make,
       &FieldFrames<Dim, Sim>::make, &Checkpoints<Sim>::make, &ProgressObserver<Sim>::make,
       &SurfaceForcesFile<Dim, Sim>::make, &GrainsHistory<Dim, Sim>::make, &BalanceHistory<Sim>::make,
+      &PhasesHistory<Sim>::make,
   };
   return makers;
 }

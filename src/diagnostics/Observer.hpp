@@ -37,7 +37,7 @@ struct HealthRecord {
 
 // One fluid phase's volume and its volume flux along an axis (m^Dim, m^(Dim+1)/s).
 struct PhaseSums {
-  double volume = 0, flux = 0, mass = 0;
+  double volume = 0, flux = 0, mass = 0, pressure = 0;  // pressure: sum of V p
 };
 // What a run measured of one fluid phase (diagnostics/PhaseProbe.hpp).
 struct PhaseMeasure {
@@ -48,6 +48,7 @@ struct PhaseMeasure {
   bool has_relative_permeability = false;
   double relative_permeability = 0;  // with Phases/Single Phase Permeability
   double mass = 0;                   // of its particles (kg per m^(3-Dim)); fixed particles keep it exactly
+  double mean_pressure = 0;          // its volume-weighted mean p (Pa): phase 1's less phase 0's is the capillary pressure
 };
 // A round phase-1 region (a drop) against Laplace's law (diagnostics/PhaseProbe.hpp).
 struct CapillaryMeasure {

@@ -32,10 +32,11 @@ PhaseSums phase_sums(const ParticleSet& P, int phase, double rho0, int axis) {
   const auto which = P.phase;
   const auto m = P.m;
   const auto v = P.v;
+  const auto p = P.p;
   PhaseSums sums;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(ExecSpace(), 0, P.owned);
   static const std::string volume_label = "poresph::phase_volume", flux_label = "poresph::phase_flux",
-                           mass_label = "poresph::phase_mass";
+                           mass_label = "poresph::phase_mass", pressure_label = "poresph::phase_pressure";
   Kokkos::parallel_reduce(
       volume_label, policy,
       KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) / rho0 : 0.0; },
@@ -49,6 +50,10 @@ PhaseSums phase_sums(const ParticleSet& P, int phase, double rho0, int axis) {
   Kokkos::parallel_reduce(
       mass_label, policy,
       KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) : 0.0; }, sums.mass);
+  Kokkos::parallel_reduce(
+      pressure_label, policy,
+      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) / rho0 * p(i) : 0.0; },
+      sums.pressure);
   return sums;
 }
 
@@ -106,6 +111,7 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
     s.volume = sim.communicator().sum(s.volume);
     s.flux = sim.communicator().sum(s.flux);
     s.mass = sim.communicator().sum(s.mass);
+    s.pressure = sim.communicator().sum(s.pressure);
     fluid += s.volume;
     sums.push_back(s);
   }
@@ -118,6 +124,7 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
     m.saturation = sums[p].volume / fluid;
     m.superficial_velocity = sums[p].flux / cell;
     m.mass = sums[p].mass;
+    m.mean_pressure = sums[p].volume > 0 ? sums[p].pressure / sums[p].volume : 0.0;
     // The phase's own Darcy k (its viscous pull against the force on it, per
     // unit volume rho_p |F|): mu_p / (rho_p |F|) = nu_p / |F| at rho_p.
     m.has_relative_permeability = k > 0 && force > 0;

@@ -33,6 +33,7 @@ struct RunState {
   // to the checkpoint: a restart keeps these and drops what a killed run
   // wrote after it, or an end-of-run row it continues past.
   double history_rows = 0, profile_rows = 0, grains_history_rows = 0, balance_history_rows = 0;
+  double phases_history_rows = 0;  // phases_history*.csv
   double max_density_variation = 0, max_density_drift = 0;
   double particles_inside_grains = 0, max_grain_penetration = 0;
   double grain_surface_corrections = 0, max_corrected_depth = 0;
@@ -58,6 +59,7 @@ struct RunState {
     f("profile_rows", state.profile_rows);
     f("grains_history_rows", state.grains_history_rows);
     f("balance_history_rows", state.balance_history_rows);
+    f("phases_history_rows", state.phases_history_rows);
     f("max_density_variation", state.max_density_variation);
     f("max_density_drift", state.max_density_drift);
     f("particles_inside_grains", state.particles_inside_grains);

@@ -1,0 +1,84 @@
+#pragma once
+// phases_history.csv: two fluids over a run (diagnostics/PhaseProbe.hpp),
+// one row every check interval and at the end: each phase's superficial
+// velocity along the driven axis and its volume-weighted mean pressure,
+// and the capillary pressure, phase 1's mean pressure less phase 0's. The
+// measures are sums over all processes; the first writes. Every write is
+// checked (io/HistoryFile.hpp); a restart in the run's own directory keeps
+// the rows its checkpoint counts and goes on from there.
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "diagnostics/Observer.hpp"
+#include "diagnostics/PhaseProbe.hpp"
+#include "diagnostics/StageSetting.hpp"
+#include "io/HistoryFile.hpp"
+
+namespace poresph {
+
+template <class Sim>
+class PhasesHistory : public Observer<Sim> {
+ public:
+  PhasesHistory(const Sim& sim, const SceneConfig& scene, int axis, const std::string& path, long long interval,
+                bool continuing, long long rows_before)
+      : scene_(scene), axis_(axis), interval_(interval), rows_(rows_before), scheduled_rows_(rows_before) {
+    std::string header = "step,time";
+    for (size_t p = 0; p < scene.phases.size(); ++p)
+      header += ",superficial_velocity_" + std::to_string(p) + ",mean_pressure_" + std::to_string(p);
+    header += ",capillary_pressure\n";
+    if (sim.communicator().rank() == 0) file_.open(path, header, continuing, rows_before);
+    if (!continuing) write(sim);
+  }
+
+  // A scene with phases, along the force's axis (x without one), as PhaseProbe.
+  static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
+    if (!s.scene.has_phases()) return nullptr;
+    return std::make_unique<PhasesHistory>(
+        s.sim, s.scene, s.force_axis >= 0 ? s.force_axis : 0, s.output_dir + "/phases_history" + s.suffix + ".csv",
+        s.check_interval > 0 ? s.check_interval : 100, s.continuing,
+        s.continuing ? static_cast<long long>(s.restored->phases_history_rows) : 0);
+  }
+  bool writes() const override { return true; }
+
+  void after_step(Sim& sim) override {
+    if (sim.steps() % interval_ != 0) return;
+    write(sim);
+    scheduled_rows_ = rows_;
+  }
+  // As of the last scheduled row: an end-of-run row is not one a run
+  // continued past that end writes.
+  void save(RunState& state) const override { state.phases_history_rows = static_cast<double>(scheduled_rows_); }
+  void at_end(Sim& sim) override {
+    if (sim.steps() % interval_ != 0) write(sim);
+  }
+
+ private:
+  // On every process (the measures are collective); the first writes.
+  void write(const Sim& sim) {
+    const auto measures = measure_phases(sim, scene_, axis_);
+    ++rows_;
+    std::ofstream* out = file_.stream();
+    if (!out) return;
+    char buffer[64];
+    auto put = [&](double value) {
+      std::snprintf(buffer, sizeof buffer, ",%.12g", value);
+      *out << buffer;
+    };
+    *out << sim.steps();
+    put(sim.time());
+    for (const auto& m : measures) put(m.superficial_velocity), put(m.mean_pressure);
+    put(measures[1].mean_pressure - measures[0].mean_pressure);
+    *out << "\n";
+    file_.check();
+  }
+
+  const SceneConfig& scene_;  // the stage's, held as PhaseProbe holds it
+  int axis_;
+  long long interval_;
+  long long rows_, scheduled_rows_;  // data rows written, and as of the last scheduled write
+  HistoryFile file_;
+};
+
+}  // namespace poresph
