@@ -45,7 +45,8 @@ struct StageFile {
 };
 constexpr StageFile kStageFiles[] = {{"permeability_history", ".csv"}, {"profiles", ".csv"}, {"particles", ".csv"},
                                      {"particles", ".xmf"},           {"grid", ".xmf"},       {"surface_forces", ".csv"},
-                                     {"grains_history", ".csv"},     {"balance_history", ".csv"}};
+                                     {"grains_history", ".csv"},     {"balance_history", ".csv"},
+                                     {"phases_history", ".csv"}};
 // The run's own files, one of each.
 constexpr const char* kRunFiles[] = {"summary.json", "parameters_used.xml", "checkpoint.h5", "grains_used.txt"};
 
