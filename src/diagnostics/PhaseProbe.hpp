@@ -24,36 +24,41 @@
 
 namespace poresph {
 
-// Volume and flux of each phase's fluid particles on this process: the
-// volume of a fixed particle is m / rho0 of its phase (dx^N on the lattice).
+// One phase's sums over this process's fluid particles, in one pass: the
+// volume (of a fixed particle m / rho0 of its phase, dx^N on the lattice),
+// the volume flux along an axis, the mass and the volume-weighted pressure
+// (PhaseSums, in that order).
+template <class ParticleSet>
+struct PhaseSumsOf {
+  using value_type = double[];
+  static constexpr unsigned kValues = 4;
+  unsigned value_count = kValues;
+  decltype(ParticleSet::kind) kind;
+  decltype(ParticleSet::phase) which;
+  decltype(ParticleSet::m) m;
+  decltype(ParticleSet::v) v;
+  decltype(ParticleSet::p) p;
+  int phase, axis;
+  double rho0;
+  KOKKOS_INLINE_FUNCTION void operator()(int i, value_type sums) const {
+    if (kind(i) != kFluid || which(i) != phase) return;
+    const double volume = m(i) / rho0;
+    sums[0] += volume;
+    sums[1] += volume * v(i, axis);
+    sums[2] += m(i);
+    sums[3] += volume * p(i);
+  }
+};
+
 template <class ExecSpace, class ParticleSet>
 PhaseSums phase_sums(const ParticleSet& P, int phase, double rho0, int axis) {
-  const auto kind = P.kind;
-  const auto which = P.phase;
-  const auto m = P.m;
-  const auto v = P.v;
-  const auto p = P.p;
+  using Sums = PhaseSumsOf<ParticleSet>;
+  const Sums of{Sums::kValues, P.kind, P.phase, P.m, P.v, P.p, phase, axis, rho0};
+  double values[Sums::kValues] = {};
+  static const std::string label = "poresph::phase_sums";
+  Kokkos::parallel_reduce(label, Kokkos::RangePolicy<ExecSpace>(ExecSpace(), 0, P.owned), of, values);
   PhaseSums sums;
-  const auto policy = Kokkos::RangePolicy<ExecSpace>(ExecSpace(), 0, P.owned);
-  static const std::string volume_label = "poresph::phase_volume", flux_label = "poresph::phase_flux",
-                           mass_label = "poresph::phase_mass", pressure_label = "poresph::phase_pressure";
-  Kokkos::parallel_reduce(
-      volume_label, policy,
-      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) / rho0 : 0.0; },
-      sums.volume);
-  Kokkos::parallel_reduce(
-      flux_label, policy,
-      KOKKOS_LAMBDA(int i, double& sum) {
-        sum += kind(i) == kFluid && which(i) == phase ? m(i) / rho0 * v(i, axis) : 0.0;
-      },
-      sums.flux);
-  Kokkos::parallel_reduce(
-      mass_label, policy,
-      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) : 0.0; }, sums.mass);
-  Kokkos::parallel_reduce(
-      pressure_label, policy,
-      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && which(i) == phase ? m(i) / rho0 * p(i) : 0.0; },
-      sums.pressure);
+  sums.volume = values[0], sums.flux = values[1], sums.mass = values[2], sums.pressure = values[3];
   return sums;
 }
 
