@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -216,36 +217,75 @@ TYPED_TEST(SteadySolverTest, FgmresSolvesASmallSystem) {
 // The lattice multigrid as a stationary iteration on a Dirichlet Laplacian
 // around a disc (periodic lattice): the residual falls by the same factor
 // per V-cycle at 32, 64 and 128 points a side: it does not grow.
+// The rate of stationary cycles on a Dirichlet lattice Laplacian, after
+// ten cycles from x = 0 (the rate per cycle of the last nine), for the
+// right-hand side mean + sin(0.37 k) on the fluid points.
+template <int Dim, class Space>
+double multigrid_rate(int n, const std::vector<char>& active, double mean) {
+  using V = Kokkos::View<double*, typename Space::memory_space>;
+  std::array<int, Dim> shape;
+  shape.fill(n);
+  LatticeMultigrid<Dim, Space> multigrid(Space(), shape, active);
+  const long long points = static_cast<long long>(active.size());
+  V b("b", points), x("x", points), r("r", points), dx("dx", points);
+  auto hb = Kokkos::create_mirror_view(b);
+  for (long long k = 0; k < points; ++k) hb(k) = active[k] ? mean + std::sin(0.37 * k) : 0.0;
+  Kokkos::deep_copy(b, hb);
+  KrylovVectors<Space> ops{Space(), Communicator()};
+  const double start = ops.norm(b);
+  double norm = start;
+  for (int cycle = 0; cycle < 10; ++cycle) {
+    multigrid.apply(x, r);
+    ops.update(1.0, b, -1.0, r);
+    norm = ops.norm(r);
+    multigrid.cycle(r, dx);
+    ops.update(1.0, dx, 1.0, x);
+  }
+  return std::pow(norm / start, 1.0 / 9);
+}
+
 TYPED_TEST(SteadySolverTest, LatticeMultigridConvergesAtEverySize) {
   using Space = TypeParam;
-  using V = Kokkos::View<double*, typename Space::memory_space>;
   std::vector<double> rates;
   for (int n : {32, 64, 128}) {
-    std::array<int, 2> shape{n, n};
     std::vector<char> active(n * n);
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
         active[i + n * j] = std::hypot(i + 0.5 - n / 2.0, j + 0.5 - n / 2.0) > 0.3 * n;
-    LatticeMultigrid<2, Space> multigrid(Space(), shape, active);
-    V b("b", n * n), x("x", n * n), r("r", n * n), dx("dx", n * n);
-    auto hb = Kokkos::create_mirror_view(b);
-    for (int k = 0; k < n * n; ++k) hb(k) = active[k] ? std::sin(0.37 * k) : 0.0;
-    Kokkos::deep_copy(b, hb);
-    KrylovVectors<Space> ops{Space(), Communicator()};
-    const double start = ops.norm(b);
-    double norm = start;
-    for (int cycle = 0; cycle < 10; ++cycle) {
-      multigrid.apply(x, r);
-      ops.update(1.0, b, -1.0, r);
-      norm = ops.norm(r);
-      multigrid.cycle(r, dx);
-      ops.update(1.0, dx, 1.0, x);
-    }
-    const double rate = std::pow(norm / start, 1.0 / 9);
-    rates.push_back(rate);
-    EXPECT_LT(rate, 0.5) << n << " a side";  // 0.43, 0.42, 0.43 measured
+    rates.push_back(multigrid_rate<2, Space>(n, active, 0.0));
+    EXPECT_LT(rates.back(), 0.5) << n << " a side";  // 0.43, 0.42, 0.43 measured
   }
   EXPECT_LT(rates.back(), rates.front() + 0.05);
+}
+
+// Around a dozen discs, on a right-hand side with a smooth part, a V-cycle
+// of piecewise-constant aggregation loses rate with every level (measured
+// 0.70 at 64 a side, 0.90 at 256, 0.98 at 1,024: fails here); the cycle's W
+// below the finest level, with corrections over-weighted, holds it better
+// (0.62, 0.74, 0.82).
+TYPED_TEST(SteadySolverTest, LatticeMultigridKeepsItsRateAcrossLevels) {
+  using Space = TypeParam;
+  std::vector<double> rates;
+  for (int n : {64, 256, 1024}) {
+    // twelve discs of radius 0.12 of the cell at random centres (the same at every n)
+    std::mt19937 random(3);
+    std::array<std::array<double, 2>, 12> centres;
+    for (auto& c : centres) c = {random() / 4294967296.0, random() / 4294967296.0};
+    std::vector<char> active(static_cast<size_t>(n) * n);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        bool solid = false;
+        for (const auto& c : centres) {
+          double ex = std::fabs((i + 0.5) / n - c[0]), ey = std::fabs((j + 0.5) / n - c[1]);
+          ex = std::min(ex, 1 - ex), ey = std::min(ey, 1 - ey);
+          solid = solid || std::hypot(ex, ey) < 0.12;
+        }
+        active[i + static_cast<size_t>(n) * j] = !solid;
+      }
+    rates.push_back(multigrid_rate<2, Space>(n, active, 1.0));
+  }
+  EXPECT_LT(rates.back(), 0.9);
+  EXPECT_LT(rates.back(), rates.front() + 0.24);
 }
 
 // A V-cycle starts from zero whatever the cycle before it left: the same
