@@ -77,7 +77,7 @@ class SteadySolver {
   // is the forward difference's rounding (a bulk row's: about 1e-15).
   static constexpr double kDragShareFloor = 1e-6;
 
-  // should_stop: asked after every linear iteration (all processes agree);
+  // should_stop: asked after every linear and inner iteration (all processes agree);
   // progress: told after every linear iteration and Newton step.
   SteadySolver(typename System::Sim& sim, const ExecSpace& space, const SteadyOptions& options,
                std::function<bool()> should_stop, std::function<void(const SteadyProgress&)> progress)
@@ -530,6 +530,12 @@ class SteadySolver {
     krylov.tolerance = options_.inner_tolerance;
     krylov.max_iterations = options_.max_inner_iterations;
     krylov.restart = std::min(options_.inner_restart, options_.max_inner_iterations);
+    // A stop signal is answered within an inner iteration, not at the end of
+    // the outer one: an outer iteration of a million particles takes tens of
+    // seconds, and mpirun kills the ranks about 2 s after it forwards a
+    // SIGTERM. An abandoned inner solve leaves a rough preconditioned vector,
+    // and the outer solve then stops at its own check.
+    krylov.after_iteration = [this](int, double) { return should_stop_ && should_stop_(); };
     return krylov;
   }
 
