@@ -15,17 +15,17 @@
 #include "diagnostics/Observer.hpp"
 #include "diagnostics/StageSetting.hpp"
 #include "core/Vec.hpp"
-#include "io/HistoryFile.hpp"
+#include "io/ScheduledHistory.hpp"
 
 namespace poresph {
 
 template <int Dim, class Sim>
-class GrainsHistory : public Observer<Sim> {
+class GrainsHistory : public ScheduledHistory<Sim> {
  public:
   // continuing: a restart in the run's own directory, which keeps the
   // first `rows_before` rows (the ones its checkpoint counts).
   GrainsHistory(const Sim& sim, const std::string& path, long long interval, bool continuing, long long rows_before)
-      : interval_(interval), rows_(rows_before), scheduled_rows_(rows_before) {
+      : ScheduledHistory<Sim>(interval, rows_before) {
     if (sim.communicator().rank() != 0) return;
     constexpr int kSpin = spin_components<Dim>();
     std::string header = "step,time,grain";
@@ -43,7 +43,7 @@ class GrainsHistory : public Observer<Sim> {
     else
       for (int k = 0; k < kSpin; ++k) header += std::string(",contact_torque_") + "xyz"[k];
     header += ",contacts";
-    file_.open(path, header + "\n", continuing, rows_before);
+    this->file_.open(path, header + "\n", continuing, rows_before);
     if (!continuing) write(sim);
   }
 
@@ -53,23 +53,12 @@ class GrainsHistory : public Observer<Sim> {
         s.sim, s.output_dir + "/grains_history" + s.suffix + ".csv", s.check_interval > 0 ? s.check_interval : 100,
         s.continuing, s.continuing ? static_cast<long long>(s.restored->grains_history_rows) : 0);
   }
-  bool writes() const override { return true; }
-
-  void after_step(Sim& sim) override {
-    if (sim.steps() % interval_ != 0) return;
-    write(sim);
-    scheduled_rows_ = rows_;
-  }
-  // As of the last scheduled row: an end-of-run row is not one a run
-  // continued past that end writes.
-  void save(RunState& state) const override { state.grains_history_rows = static_cast<double>(scheduled_rows_); }
-  void at_end(Sim& sim) override {
-    if (sim.steps() % interval_ != 0) write(sim);
-  }
+  // As of the last scheduled row (ScheduledHistory).
+  void save(RunState& state) const override { state.grains_history_rows = static_cast<double>(this->scheduled_rows_); }
 
  private:
-  void write(const Sim& sim) {
-    std::ofstream* out = file_.stream();
+  void write(const Sim& sim) override {
+    std::ofstream* out = this->file_.stream();
     if (!out) return;
     constexpr int kSpin = spin_components<Dim>();
     const auto& bodies = sim.rigid_grains().bodies();
@@ -93,14 +82,10 @@ class GrainsHistory : public Observer<Sim> {
       for (int k = 0; k < kSpin; ++k) put(b.contact_torque[k]);
       *out << "," << b.contacts;
       *out << "\n";
-      ++rows_;
+      ++this->rows_;
     }
-    file_.check();
+    this->file_.check();
   }
-
-  long long interval_;
-  long long rows_, scheduled_rows_;  // data rows written, and as of the last scheduled write
-  HistoryFile file_;
 };
 
 }  // namespace poresph

@@ -14,21 +14,21 @@
 #include "diagnostics/Observer.hpp"
 #include "diagnostics/PhaseProbe.hpp"
 #include "diagnostics/StageSetting.hpp"
-#include "io/HistoryFile.hpp"
+#include "io/ScheduledHistory.hpp"
 
 namespace poresph {
 
 template <class Sim>
-class PhasesHistory : public Observer<Sim> {
+class PhasesHistory : public ScheduledHistory<Sim> {
  public:
   PhasesHistory(const Sim& sim, const SceneConfig& scene, int axis, const std::string& path, long long interval,
                 bool continuing, long long rows_before)
-      : scene_(scene), axis_(axis), interval_(interval), rows_(rows_before), scheduled_rows_(rows_before) {
+      : ScheduledHistory<Sim>(interval, rows_before), scene_(scene), axis_(axis) {
     std::string header = "step,time";
     for (size_t p = 0; p < scene.phases.size(); ++p)
       header += ",superficial_velocity_" + std::to_string(p) + ",mean_pressure_" + std::to_string(p);
     header += ",capillary_pressure\n";
-    if (sim.communicator().rank() == 0) file_.open(path, header, continuing, rows_before);
+    if (sim.communicator().rank() == 0) this->file_.open(path, header, continuing, rows_before);
     if (!continuing) write(sim);
   }
 
@@ -40,26 +40,15 @@ class PhasesHistory : public Observer<Sim> {
         s.check_interval > 0 ? s.check_interval : 100, s.continuing,
         s.continuing ? static_cast<long long>(s.restored->phases_history_rows) : 0);
   }
-  bool writes() const override { return true; }
-
-  void after_step(Sim& sim) override {
-    if (sim.steps() % interval_ != 0) return;
-    write(sim);
-    scheduled_rows_ = rows_;
-  }
-  // As of the last scheduled row: an end-of-run row is not one a run
-  // continued past that end writes.
-  void save(RunState& state) const override { state.phases_history_rows = static_cast<double>(scheduled_rows_); }
-  void at_end(Sim& sim) override {
-    if (sim.steps() % interval_ != 0) write(sim);
-  }
+  // As of the last scheduled row (ScheduledHistory).
+  void save(RunState& state) const override { state.phases_history_rows = static_cast<double>(this->scheduled_rows_); }
 
  private:
   // On every process (the measures are collective); the first writes.
-  void write(const Sim& sim) {
+  void write(const Sim& sim) override {
     const auto measures = measure_phases(sim, scene_, axis_);
-    ++rows_;
-    std::ofstream* out = file_.stream();
+    ++this->rows_;
+    std::ofstream* out = this->file_.stream();
     if (!out) return;
     char buffer[64];
     auto put = [&](double value) {
@@ -71,14 +60,11 @@ class PhasesHistory : public Observer<Sim> {
     for (const auto& m : measures) put(m.superficial_velocity), put(m.mean_pressure);
     put(measures[1].mean_pressure - measures[0].mean_pressure);
     *out << "\n";
-    file_.check();
+    this->file_.check();
   }
 
   const SceneConfig& scene_;  // the stage's, held as PhaseProbe holds it
   int axis_;
-  long long interval_;
-  long long rows_, scheduled_rows_;  // data rows written, and as of the last scheduled write
-  HistoryFile file_;
 };
 
 }  // namespace poresph
