@@ -536,6 +536,85 @@ void Simulation<Dim, ExecSpace>::compute_rates(RateTerms terms) {
 }
 
 template <int Dim, class ExecSpace>
+bool Simulation<Dim, ExecSpace>::take_linear_state() {
+  const auto& list = neighbourhood_.list();
+  if (!fixed_ || comm_.any(!list.on_lattice_rows())) return false;
+  const int slots = particles_.total();
+  if (!lattice_products_.built()) {
+    lattice_products_ = LatticeProducts<Dim, ExecSpace>(space_, list.lattice_rows(), particles_);
+    if (comm_.any(!lattice_products_.built())) {
+      lattice_products_ = {};
+      return false;
+    }
+    slot_mass_ = Scalars("poresph::Simulation::slot_mass", slots);
+    pressure_slope_ = Scalars("poresph::Simulation::pressure_slope", slots);
+    slot_scalars_ = Scalars("poresph::Simulation::slot_scalars", slots);
+    slot_rows_ = Rows("poresph::Simulation::slot_rows", slots, Dim);
+  }
+  // Each slot's d(p/rho^2)/dp at the state: fluid and boundary particles
+  // alike (an extrapolated wall has rho = p / c^2 too).
+  const auto P = particles_;
+  const auto mass = slot_mass_, slope = pressure_slope_;
+  const double c2 = derived_.sound_speed * derived_.sound_speed, reference = reference_pressure_;
+  static const std::string label = "poresph::Simulation::take_linear_state";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(space_, 0, slots), KOKKOS_LAMBDA(int j) {
+        mass(j) = P.m(j);
+        slope(j) = pressure_term_slope(P.p(j) - reference, P.rho(j), c2);
+      });
+  space_.fence();
+  return true;
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::pressure_product(const Scalars& dp, const Rows& dvdt) {
+  const auto P = particles_;
+  const auto values = slot_scalars_, slope = pressure_slope_;
+  const int owned = particles_.owned, slots = particles_.total();
+  static const std::string label_take = "poresph::Simulation::pressure_product_take";
+  Kokkos::parallel_for(
+      label_take, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned),
+      KOKKOS_LAMBDA(int i) { values(i) = P.kind(i) == kFluid ? dp(i) : 0.0; });
+  space_.fence();
+  neighbourhood_.update_ghost_values(values, owned);
+  // The walls' pressures follow the fluid's (or keep their own: continuity).
+  if (extrapolate_walls_) {
+    extrapolate_wall_pressure_change(space_, particles_, wall_neighbours_, kernel_, body_force_,
+                                     derived_.sound_speed * derived_.sound_speed, values);
+    space_.fence();
+  }
+  static const std::string label_terms = "poresph::Simulation::pressure_product_terms";
+  Kokkos::parallel_for(
+      label_terms, Kokkos::RangePolicy<ExecSpace>(space_, 0, slots), KOKKOS_LAMBDA(int j) { values(j) *= slope(j); });
+  space_.fence();
+  if (extrapolate_walls_) neighbourhood_.update_ghost_values(values, owned);
+  Kokkos::deep_copy(space_, dvdt, 0.0);
+  lattice_products_.gradient(values, slot_mass_, dvdt);
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::continuity_product(const Rows& dv, const Scalars& drhodt) {
+  const auto P = particles_;
+  const auto values = slot_rows_;
+  const int owned = particles_.owned;
+  static const std::string label_take = "poresph::Simulation::continuity_product_take";
+  Kokkos::parallel_for(
+      label_take, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned), KOKKOS_LAMBDA(int i) {
+        for (int d = 0; d < Dim; ++d) values(i, d) = P.kind(i) == kFluid ? dv(i, d) : 0.0;
+      });
+  space_.fence();
+  neighbourhood_.update_ghost_values(values, owned);
+  Kokkos::deep_copy(space_, drhodt, 0.0);
+  lattice_products_.divergence(values, slot_mass_, drhodt);
+}
+
+template <int Dim, class ExecSpace>
+double Simulation<Dim, ExecSpace>::linear_product_values() const {
+  if (!lattice_products_.built()) return 0;
+  return lattice_products_.values_held() + static_cast<double>(slot_mass_.extent(0)) * (3 + Dim);
+}
+
+template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::make_step_stages() {
   using S = Simulation;
   const bool grains_move = scene_.moving_grains();

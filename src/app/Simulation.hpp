@@ -25,6 +25,7 @@
 #include "parallel/Neighbourhood.hpp"
 #include "physics/GrainContact.hpp"
 #include "physics/GridInterpolation.hpp"
+#include "physics/LatticeProducts.hpp"
 #include "physics/PairRates.hpp"
 #include "physics/RigidGrains.hpp"
 #include "physics/TimeStep.hpp"
@@ -108,6 +109,24 @@ class Simulation {
   // not the state's until the next compute_rates().
   enum class RateTerms { All, Pressure, Continuity };
   void compute_rates(RateTerms terms);
+
+  // The same two parts as exact linear products, for fixed particles whose
+  // pair list is said by lattice rows on every process (the steady solver's
+  // preconditioner; physics/LatticeProducts.hpp): about the state at the
+  // last take_linear_state(), which must follow a compute_rates() of that
+  // state (its pressures and ghosts current). pressure_product: the change
+  // of the owned fluid particles' dv/dt from the pressure term for changes
+  // dp of the fluid's pressures (p = c^2 rho; owned slots), the wall
+  // pressure following them; continuity_product: the change of their
+  // d rho/dt for changes dv of the fluid's velocities. Other particles'
+  // rows are zero. Both leave the particles as they are.
+  using Scalars = Kokkos::View<double*, MemorySpace>;
+  using Rows = Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>;
+  bool take_linear_state();  // false: no lattice rows somewhere, no products
+  void pressure_product(const Scalars& dp, const Rows& dvdt);
+  void continuity_product(const Rows& dv, const Scalars& drhodt);
+  // What the products hold, in doubles (0 until the first take_linear_state()).
+  double linear_product_values() const;
 
   // A step is a named sequence of stages, each a member function; which a
   // scene has is decided once, at construction (make_step_stages): a new
@@ -288,6 +307,12 @@ class Simulation {
   // (1/r) dW/dr (pair list) and W (wall list), built with the first list.
   LatticeStencil<Dim, MemorySpace> pair_stencil_, wall_stencil_;
   PairSums<Dim, ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
+  // The steady solver's linear products (take_linear_state()): the
+  // stencil sums, each slot's mass and pressure-term slope at the state,
+  // and values per slot that the halo carries to the ghosts.
+  LatticeProducts<Dim, ExecSpace> lattice_products_;
+  Scalars slot_mass_, pressure_slope_, slot_scalars_;
+  Rows slot_rows_;
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;
   RigidGrains<Dim, ExecSpace> rigid_grains_;  // Grains/Motion = free or rotating

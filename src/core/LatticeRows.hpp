@@ -67,11 +67,13 @@ class LatticeRows {
       stride[d] = sites;
       const double extent = (hi - lo) * inverse_spacing;
       if (!(extent < 1e9)) return false;
-      sites *= static_cast<long long>(extent + 0.5) + 1;
+      extent_[d] = static_cast<int>(extent + 0.5) + 1;
+      sites *= extent_[d];
       if (sites > kMostSitesPerSlot * slots + 1024 || sites >= (1LL << 31)) return false;
     }
     words_ = (stencil.size() + kBits - 1) / kBits;
     stencil_ = stencil;
+    spacing_ = spacing;
     site_ = Kokkos::View<int*, MemorySpace>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "LatticeRows::site"),
                                             owned);
     slot_of_site_ = Kokkos::View<int*, MemorySpace>("LatticeRows::slot_of_site", sites);
@@ -184,6 +186,16 @@ class LatticeRows {
   KOKKOS_FORCEINLINE_FUNCTION int neighbour_of_site(int site, int id) const {
     return slot_of_site_(site + step_(id)) - 1;
   }
+  // The sites of the map (the box of the slots' lattice points), the slot at
+  // a site (-1: none), and the site difference of stencil offset id (a
+  // neighbour lies at site(a) + step(id)).
+  int sites() const { return static_cast<int>(slot_of_site_.extent(0)); }
+  // The map's box: sites along axis d (axis 0 the fastest), and the spacing.
+  int extent(int d) const { return extent_[d]; }
+  double spacing() const { return spacing_; }
+  KOKKOS_FORCEINLINE_FUNCTION int slot_at(int site) const { return slot_of_site_(site) - 1; }
+  KOKKOS_FORCEINLINE_FUNCTION int step(int id) const { return step_(id); }
+  const Stencil& stencil() const { return stencil_; }
   KOKKOS_FORCEINLINE_FUNCTION double separation(int id, int d) const { return stencil_.separation(id, d); }
   KOKKOS_FORCEINLINE_FUNCTION double of_distance(int id) const { return stencil_.of_distance(id); }
 
@@ -195,6 +207,8 @@ class LatticeRows {
   BitsView bits_;                                 // [owned mask words | ghost mask words] per row
   Stencil stencil_;
   int words_ = 0;
+  Kokkos::Array<int, Dim> extent_{};
+  double spacing_ = 0;
 };
 
 }  // namespace poresph

@@ -92,13 +92,13 @@ class Halo {
     keep_headroom(leaving);
     keep_headroom(staying);
     sort_by_destination(leaving);
-    const Transfer& transfer = exchange(P, leaving, Fields::Owned);
+    const Transfer& transfer = exchange(ParticleFields{P, Fields::Owned}, leaving);
     // Stable compaction: the particles that stay keep their order.
     for (size_t k = 0; k < staying.size(); ++k)
       if (staying[k] != static_cast<int>(k)) copy_particle(P, staying[k], static_cast<int>(k), Fields::Owned);
     P.owned = static_cast<int>(staying.size());
     P.reserve(P.owned + transfer.received());
-    unpack(P, transfer, P.owned, Fields::Owned);
+    unpack(ParticleFields{P, Fields::Owned}, transfer, P.owned);
     P.owned += transfer.received();
     return static_cast<int>(leaving.size());
   }
@@ -127,9 +127,9 @@ class Halo {
       }
       keep_headroom(items);
       sort_by_destination(items);
-      const Transfer& transfer = exchange(P, items, Fields::Ghost, d);
+      const Transfer& transfer = exchange(ParticleFields{P, Fields::Ghost}, items, d);
       P.reserve_ghosts(P.total() + transfer.received());
-      unpack(P, transfer, P.total(), Fields::Ghost);
+      unpack(ParticleFields{P, Fields::Ghost}, transfer, P.total());
       P.ghosts += transfer.received();
       stages_[d].recv_counts = transfer.recv_counts;
     }
@@ -149,12 +149,18 @@ class Halo {
   // the counts are known from the build, so only the data travel.
   void update(ParticleSet& P) {
     if (!built_) return;
-    int slot = P.owned;
-    for (int d = 0; d < Dim; ++d) {
-      const Transfer& transfer = exchange(P, stages_[d].items, Fields::Changing, d, &stages_[d].recv_counts);
-      unpack(P, transfer, slot, Fields::Changing);
-      slot += transfer.received();
-    }
+    update_carried(ParticleFields{P, Fields::Changing}, P.owned);
+  }
+
+  // The same for values that are no particle's field: a view with a value
+  // (rank 1) or a row of values (rank 2) per slot, of at least the particles'
+  // slots, sent from the owned slots [0, owned) to the ghost slots (the
+  // steady solver's perturbations: physics/LatticeProducts.hpp). Periodic
+  // images take the values as they are.
+  template <class Values>
+  void update_values(const Values& values, int owned) {
+    if (!built_) return;
+    update_carried(LooseValues<Values>{values}, owned);
   }
 
   static double wrap_coordinate(double x, double lo, double hi) {
@@ -200,6 +206,37 @@ class Halo {
     if (fields == Fields::Ghost) P.for_each_ghost_field(f);
     else if (fields == Fields::Changing) P.for_each_changing_field(f);
     else P.for_each_owned_field(f);
+  }
+  // What an exchange carries: a group of the particles' fields, whose first
+  // is x (which takes the image shift) in every group but the changing
+  // fields of fixed particles; or loose values, which take none.
+  struct ParticleFields {
+    const ParticleSet& P;
+    Fields fields;
+    template <class F>
+    void operator()(F&& f) const {
+      visit(P, fields, f);
+    }
+    bool shifted() const { return fields != Fields::Changing || !P.fixed_positions; }
+  };
+  template <class Values>
+  struct LooseValues {
+    Values values;
+    template <class F>
+    void operator()(F&& f) const {
+      f(values);
+    }
+    bool shifted() const { return false; }
+  };
+  // The changing fields (or loose values) along the recorded routes, into the ghost slots from first_ghost on.
+  template <class Carried>
+  void update_carried(const Carried& carried, int first_ghost) {
+    int slot = first_ghost;
+    for (int d = 0; d < Dim; ++d) {
+      const Transfer& transfer = exchange(carried, stages_[d].items, d, &stages_[d].recv_counts);
+      unpack(carried, transfer, slot);
+      slot += transfer.received();
+    }
   }
   template <class View>
   static int components(const View& v) {
@@ -247,11 +284,12 @@ class Halo {
   // Packs the items (sorted by destination) and exchanges counts (unless
   // known) and data. The buffers are members, reused from call to call, so
   // that a step allocates nothing once they have grown to size.
-  const Transfer& exchange(const ParticleSet& P, const std::vector<Item>& items, Fields fields, int direction = 0,
+  template <class Carried>
+  const Transfer& exchange(const Carried& carried, const std::vector<Item>& items, int direction = 0,
                            const std::vector<int>* known_recv_counts = nullptr) const {
     Transfer& t = transfer_;
     t.width = 0;
-    visit(P, fields, [&](const auto& v) { t.width += components(v); });
+    carried([&](const auto& v) { t.width += components(v); });
     const int ranks = comm_.size();
     auto& send_counts = send_counts_;
     send_counts.assign(ranks, 0);
@@ -271,7 +309,7 @@ class Halo {
     for (size_t k = 0; k < items.size(); ++k) {
       if (k == own_begin && own_end > own_begin) k = own_end;
       if (k == items.size()) break;
-      pack(P, fields, items[k], direction, &send[packed * t.width]);
+      pack(carried, items[k], direction, &send[packed * t.width]);
       ++packed;
     }
     if (known_recv_counts) {
@@ -302,30 +340,32 @@ class Halo {
   // One item's fields into `out`, in the order of visit(), with the image
   // shift added to x (the first field of every group that has it: all but
   // the refresh of fixed particles, Particles::for_each_changing_field).
-  static void pack(const ParticleSet& P, Fields fields, const Item& item, int direction, double* out) {
+  template <class Carried>
+  static void pack(const Carried& carried, const Item& item, int direction, double* out) {
     int offset = 0;
-    visit(P, fields, [&](const auto& v) {
+    carried([&](const auto& v) {
       for (int c = 0; c < components(v); ++c) out[offset + c] = get(v, item.index, c);
       offset += components(v);
     });
-    if (fields != Fields::Changing || !P.fixed_positions) out[direction] += item.shift;
+    if (carried.shifted()) out[direction] += item.shift;
   }
 
   // The received particles into slots [first_slot, first_slot + received):
   // from the messages, and this process's own items copied from their
   // slots (which lie below first_slot: a stage sends only what is held
   // before it) as a message would have brought them.
-  void unpack(const ParticleSet& P, const Transfer& t, int first_slot, Fields fields) const {
+  template <class Carried>
+  void unpack(const Carried& carried, const Transfer& t, int first_slot) const {
     const int n = t.received(), own = t.own ? t.recv_counts[comm_.rank()] : 0;
     std::vector<double>& row = own_row_;
     row.resize(t.width);
     for (int k = 0; k < n; ++k) {
       const bool from_self = k >= t.own_first && k < t.own_first + own;
       const double* in = row.data();
-      if (from_self) pack(P, fields, t.own[k - t.own_first], t.direction, row.data());
+      if (from_self) pack(carried, t.own[k - t.own_first], t.direction, row.data());
       else in = &t.data[(k < t.own_first ? k : k - own) * t.width];
       int offset = 0;
-      visit(P, fields, [&](const auto& v) {
+      carried([&](const auto& v) {
         for (int c = 0; c < components(v); ++c) put(v, first_slot + k, c, in[offset + c]);
         offset += components(v);
       });

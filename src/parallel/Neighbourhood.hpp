@@ -111,6 +111,12 @@ class Neighbourhood {
 
   // The ghosts' changing fields, along the routes of the last build.
   void update_ghosts(ParticleSet& P) { halo_.update(P); }
+  // Values that are no particle's field (a value or a row of values per
+  // slot), from the owned slots [0, owned) to the ghosts, along the same routes.
+  template <class Values>
+  void update_ghost_values(const Values& values, int owned) {
+    halo_.update_values(values, owned);
+  }
   // The next refresh wraps, migrates and builds (particles arrived from elsewhere).
   void invalidate() { built_ = false; }
 

@@ -32,6 +32,12 @@ KOKKOS_FORCEINLINE_FUNCTION double continuity_rate(double m_b, const Vec<Dim>& v
 // p / rho^2, the per-particle factor of the symmetric pressure term.
 KOKKOS_FORCEINLINE_FUNCTION double pressure_term(double p, double rho) { return p / (rho * rho); }
 
+// d/dp of pressure_term(p - p_ref, rho) with the density following the
+// pressure, rho = p / c^2: 1 / rho^2 - 2 (p - p_ref) / (rho^3 c^2).
+KOKKOS_FORCEINLINE_FUNCTION double pressure_term_slope(double relative_p, double rho, double sound_speed_sq) {
+  return (1.0 - 2.0 * relative_p / (rho * sound_speed_sq)) / (rho * rho);
+}
+
 // The pressure term per unit neighbour mass, as a weight of r_ab:
 // -(P_a + P_b) F_ab with P = p / rho^2 (b sees the same weight of r_ba).
 KOKKOS_FORCEINLINE_FUNCTION double pressure_weight(double P_a, double P_b, double F_ab) { return -(P_a + P_b) * F_ab; }

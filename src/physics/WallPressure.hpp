@@ -194,4 +194,40 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
       });
 }
 
+// The change of each owned boundary particle's extrapolated pressure for a
+// change dp of the fluid's pressures (a value per slot, owned and ghosts):
+// extrapolate_wall_pressure differentiated for walls at rest, with the
+// fluid's density following its pressure (d rho_f = dp_f / c^2),
+//   dp_w = sum_f W_wf (1 + F . r_wf / c^2) dp_f / sum_f W_wf,
+// into dp(w); fluid slots are left as they are. Without fluid in reach, 0.
+template <int Dim, class ExecSpace, class Values>
+void extrapolate_wall_pressure_change(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                                      const WallNeighbours<Dim, ExecSpace>& walls, const QuinticKernel<Dim>& kernel,
+                                      const Vec<Dim>& body_force, double sound_speed_sq, const Values& dp) {
+  const auto Q = P;
+  const bool cached = walls.has_geometry();
+  static const std::string label = "poresph::extrapolate_wall_pressure_change";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int w) {
+        if (Q.kind(w) == kFluid) return;
+        const Vec<Dim> x_w = row<Dim>(Q.x, w);
+        double sum_w = 0, sum_dpw = 0;
+        for (int k = walls.begin(w); k < walls.end(w); ++k) {
+          const int f = walls.neighbour(k);
+          Vec<Dim> r;
+          double W;
+          if (cached) {
+            for (int d = 0; d < Dim; ++d) r[d] = walls.separation(k, d);
+            W = walls.weight(k);
+          } else {
+            r = x_w - row<Dim>(Q.x, f);
+            W = kernel.value(math::sqrt(dot(r, r)));
+          }
+          sum_w += W;
+          sum_dpw += (1.0 + dot(body_force, r) / sound_speed_sq) * W * dp(f);
+        }
+        dp(w) = sum_w > 0 ? sum_dpw / sum_w : 0.0;
+      });
+}
+
 }  // namespace poresph

@@ -187,9 +187,10 @@ class SteadySolver {
     report.rate_evaluations = system.rate_evaluations();
     report.partial_rate_evaluations = system.partial_rate_evaluations();
     report.solve_seconds = seconds_since(start) - report.setup_seconds;
-    // The vectors with the Krylov bases as large as they grew, and the gathered lattices.
+    // The vectors with the Krylov bases as large as they grew, the gathered
+    // lattices, and the simulation's linear products (their sites and slots).
     const double vectors = steady_vector_values(outer_basis_, inner_basis_, nv, nq);
-    const double lattices = wide_.values_held() + compact_.values_held();
+    const double lattices = wide_.values_held() + compact_.values_held() + sim_.linear_product_values();
     const double bytes = sim_.communicator().sum(8.0 * (vectors + lattices));
     const double particles = static_cast<double>(sim_.fluid_particles() + sim_.boundary_particles());
     report.bytes_per_particle = bytes / particles;

@@ -86,7 +86,15 @@ class SteadySystem {
     space_.fence();
     evaluate(residual_v_, residual_q_);
     for (auto& base : partial_) base.current = false;
+    linear_products_ = sim_.take_linear_state();
   }
+  // Whether the products of the pressure term alone and of continuity alone
+  // are the simulation's exact linear ones (lattice rows on every process),
+  // not forward differences.
+  bool linear_products() const { return linear_products_ && !differenced_partials_; }
+  // Differences of one-term pair loops from now on, also on lattice rows
+  // (the path of lists that are not: tests compare the two).
+  void difference_partial_products() { differenced_partials_ = true; }
 
   // y += (dv, dq) on fluid particles, into the simulation; the residual there.
   void move_state(const View& dv, const View& dq) {
@@ -113,6 +121,11 @@ class SteadySystem {
     // A perturbation of 1e-4 of the velocity scale per unknown, on average.
     const double n = static_cast<double>(sim_.fluid_particles()) * (Dim + 1);
     const double step = 1e-4 * velocity_scale_ * std::sqrt(n) / size;
+    if (terms != RateTerms::All && linear_products()) {
+      apply_linear(wv, wq, out_v, out_q, terms);
+      ++partial_evaluations_;
+      return;
+    }
     if (terms != RateTerms::All) {
       PartialBase& base = partial_[terms == RateTerms::Pressure ? 0 : 1];
       if (!base.current) {  // F of these terms at the state, once per state
@@ -201,6 +214,47 @@ class SteadySystem {
   }
 
  private:
+  // apply() of the pressure term alone (G: velocity rows of wq, the density
+  // rows zero) or of continuity alone (D: density rows of wv, the velocity
+  // rows zero) by the simulation's linear products: the forward difference's
+  // limit, exact to rounding.
+  void apply_linear(const View* wv, const View* wq, const View& out_v, const View& out_q, RateTerms terms) {
+    using Rows = typename Sim::Rows;
+    const auto P = sim_.particles();
+    const auto fluid = fluid_;
+    const double to_q = to_q_, dt = drag_time_;
+    const bool drag = P.has_surfaces;
+    if (terms == RateTerms::Pressure) {
+      // p = c^2 rho = (c^2 / to_q) q
+      const double c = sim_.derived().sound_speed, to_p = c * c / to_q;
+      const View dp = scratch_q_;
+      if (wq) ops_.update(to_p, *wq, 0.0, dp);
+      else ops_.fill(dp, 0.0);
+      sim_.pressure_product(dp, Rows(out_v.data(), owned_, Dim));
+      static const std::string label = "poresph::steady::linear_gradient_rows";
+      Kokkos::parallel_for(
+          label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
+            const double kappa = drag ? P.wall_drag(i) : 0.0;
+            const double weight = fluid(i) / (1.0 + kappa * dt);
+            for (int d = 0; d < Dim; ++d) out_v(i * Dim + d) *= weight;
+          });
+      space_.fence();
+      ops_.fill(out_q, 0.0);
+      return;
+    }
+    if (wv) {
+      sim_.continuity_product(Rows(wv->data(), owned_, Dim), out_q);
+      static const std::string label = "poresph::steady::linear_divergence_rows";
+      Kokkos::parallel_for(
+          label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_),
+          KOKKOS_LAMBDA(int i) { out_q(i) *= fluid(i) * to_q; });
+      space_.fence();
+    } else {
+      ops_.fill(out_q, 0.0);
+    }
+    ops_.fill(out_v, 0.0);
+  }
+
   // The simulation's fluid state to y + step (wv, wq).
   void set_state(double step, const View* dv, const View* dq) {
     const auto P = sim_.particles();
@@ -243,6 +297,7 @@ class SteadySystem {
   int owned_;
   double to_q_ = 1, drag_time_ = 0, velocity_scale_ = 1;
   long long evaluations_ = 0, partial_evaluations_ = 0;
+  bool linear_products_ = false, differenced_partials_ = false;
   View base_v_, base_q_, residual_v_, residual_q_, scratch_v_, scratch_q_, fluid_;
   // F of the pressure term alone [0] and of continuity alone [1] at the state.
   struct PartialBase {
