@@ -155,28 +155,31 @@ class SteadySystem {
 
   // The diagonal of the velocity block dF_v/dv, by probing: particles whose
   // colours agree are perturbed together, one colour and one component at a
-  // time. Along an axis of N points the colour is the index modulo M (M at
-  // least the reach of the pair terms, in spacings, plus one), and the N - qM
-  // points past the last whole block of M each have a colour of their own:
-  // two points of one colour are then M or more apart across the periodic
-  // end too, whatever N is. M is a divisor of N where one lies between the
-  // least M and twice it (no points left over). Without the leftover colours
-  // a lattice of a prime number of points a side had N colours along each
-  // axis: N^Dim products (23 a side in 3D: over a minute of set-up, against
-  // 2.7 s at 24).
-  View velocity_diagonal() {
+  // time, each probe a forward difference by default (the diagonal is the
+  // preconditioner's, and a forward difference is near enough at half the
+  // cost: it differs from J's by about 1e-5, relative). Along an axis of N points the colour is the index modulo M, M at
+  // least the distance (in spacings) at which the kernel's gradient vanishes,
+  // and the N - qM points past the last whole block of M each have a colour
+  // of their own: two points of one colour are then M or more apart across
+  // the periodic end too, whatever N is. Of the M from that least to twice
+  // it, the one with the fewest colours (M plus the points left over); a
+  // divisor of N on a tie. Without the leftover colours a lattice of a prime
+  // number of points a side had N colours along each axis: N^Dim products
+  // (23 a side in 3D: over a minute of set-up, against 2.7 s at 24).
+  View velocity_diagonal(Accuracy accuracy = Accuracy::Forward) {
     const double dx = sim_.scene().particle_spacing;
     const double cutoff = 3.0 * sim_.derived().smoothing_length;
     int modulus[Dim], whole[Dim], per_axis[Dim];
     long long colours = 1;
     for (int d = 0; d < Dim; ++d) {
       const int points = static_cast<int>(std::lround(sim_.scene().cell_size[d] / dx));
-      const int least = static_cast<int>(std::floor(cutoff / dx + 1e-9)) + 1;
+      const int least = std::max(1, static_cast<int>(std::ceil(cutoff / dx - 1e-9)));
       modulus[d] = std::min(least, points);
-      for (int m = least; m <= std::min(2 * least, points); ++m)
-        if (points % m == 0) {
+      int fewest = modulus[d] + points % modulus[d];
+      for (int m = least + 1; m <= std::min(2 * least, points); ++m)
+        if (m + points % m < fewest || (m + points % m == fewest && points % m == 0)) {
           modulus[d] = m;
-          break;
+          fewest = m + points % m;
         }
       whole[d] = points / modulus[d] * modulus[d];  // points in whole blocks
       per_axis[d] = modulus[d] + (points - whole[d]);
@@ -201,7 +204,7 @@ class SteadySystem {
               for (int d = 0; d < Dim; ++d) probe(i * Dim + d) = (c == colour && d == component) ? fluid(i) : 0.0;
             });
         space_.fence();
-        apply(&probe, nullptr, response, response_q);
+        apply(&probe, nullptr, response, response_q, accuracy);
         static const std::string label_take = "poresph::steady::diagonal_take";
         Kokkos::parallel_for(
             label_take, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
