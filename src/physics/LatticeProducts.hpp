@@ -73,7 +73,8 @@ class LatticeProducts {
     int reach[Dim] = {};
     for (int id : ids)
       for (int d = 0; d < Dim; ++d)
-        reach[d] = std::max(reach[d], static_cast<int>(std::lround(std::fabs(stencil.separation(id, d)) / rows.spacing())));
+        reach[d] = std::max(reach[d], static_cast<int>(std::lround(std::fabs(stencil.separation(id, d)) /
+                                                                    rows.spacing())));
     std::vector<int> fluid_sites;
     for (int i = 0; i < owned_; ++i) {
       if (P.kind(i) != kFluid) continue;

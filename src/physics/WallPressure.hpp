@@ -147,6 +147,20 @@ class WallNeighbours {
   int entries_ = 0;
 };
 
+// Entry k of the list of a boundary particle at x_w: the separation r_wf
+// (into r) and the kernel's value W_wf, read from the cache or evaluated.
+template <int Dim, class ExecSpace, class PositionView>
+KOKKOS_INLINE_FUNCTION double wall_entry(const WallNeighbours<Dim, ExecSpace>& walls, bool cached, int k,
+                                         const Vec<Dim>& x_w, const PositionView& x, const QuinticKernel<Dim>& kernel,
+                                         Vec<Dim>& r) {
+  if (cached) {
+    for (int d = 0; d < Dim; ++d) r[d] = walls.separation(k, d);
+    return walls.weight(k);
+  }
+  r = x_w - row<Dim>(x, walls.neighbour(k));
+  return kernel.value(math::sqrt(dot(r, r)));
+}
+
 // Sets p, rho = p / c^2 and the pair loop's factors of every owned boundary
 // particle from the fluid around it (fluid pressures, owned and ghost, must
 // be current). reference_pressure and volume_density as in update_pressure
@@ -170,14 +184,7 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
         for (int k = walls.begin(w); k < walls.end(w); ++k) {
           const int f = walls.neighbour(k);
           Vec<Dim> r;
-          double W;
-          if (cached) {
-            for (int d = 0; d < Dim; ++d) r[d] = walls.separation(k, d);
-            W = walls.weight(k);
-          } else {
-            r = x_w - row<Dim>(Q.x, f);
-            W = kernel.value(math::sqrt(dot(r, r)));
-          }
+          const double W = wall_entry(walls, cached, k, x_w, Q.x, kernel, r);
           sum_w += W;
           sum_pw += Q.p(f) * W;
           sum_rho_r_w += (Q.rho(f) * W) * r;
@@ -215,14 +222,7 @@ void extrapolate_wall_pressure_change(const ExecSpace& space, const Particles<Di
         for (int k = walls.begin(w); k < walls.end(w); ++k) {
           const int f = walls.neighbour(k);
           Vec<Dim> r;
-          double W;
-          if (cached) {
-            for (int d = 0; d < Dim; ++d) r[d] = walls.separation(k, d);
-            W = walls.weight(k);
-          } else {
-            r = x_w - row<Dim>(Q.x, f);
-            W = kernel.value(math::sqrt(dot(r, r)));
-          }
+          const double W = wall_entry(walls, cached, k, x_w, Q.x, kernel, r);
           sum_w += W;
           sum_dpw += (1.0 + dot(body_force, r) / sound_speed_sq) * W * dp(f);
         }

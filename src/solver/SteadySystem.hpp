@@ -112,6 +112,11 @@ class SteadySystem {
   enum class Accuracy { Central, Forward };
   void apply(const View* wv, const View* wq, const View& out_v, const View& out_q,
              Accuracy accuracy = Accuracy::Central, RateTerms terms = RateTerms::All) {
+    if (terms != RateTerms::All && linear_products()) {
+      apply_linear(wv, wq, out_v, out_q, terms);
+      ++partial_evaluations_;
+      return;
+    }
     const double size = std::sqrt((wv ? ops_.dot(*wv, *wv) : 0.0) + (wq ? ops_.dot(*wq, *wq) : 0.0));
     if (!(size > 0)) {
       ops_.fill(out_v, 0.0);
@@ -121,11 +126,6 @@ class SteadySystem {
     // A perturbation of 1e-4 of the velocity scale per unknown, on average.
     const double n = static_cast<double>(sim_.fluid_particles()) * (Dim + 1);
     const double step = 1e-4 * velocity_scale_ * std::sqrt(n) / size;
-    if (terms != RateTerms::All && linear_products()) {
-      apply_linear(wv, wq, out_v, out_q, terms);
-      ++partial_evaluations_;
-      return;
-    }
     if (terms != RateTerms::All) {
       PartialBase& base = partial_[terms == RateTerms::Pressure ? 0 : 1];
       if (!base.current) {  // F of these terms at the state, once per state
@@ -157,13 +157,14 @@ class SteadySystem {
   // colours agree are perturbed together, one colour and one component at a
   // time, each probe a forward difference by default (the diagonal is the
   // preconditioner's, and a forward difference is near enough at half the
-  // cost: it differs from J's by about 1e-5, relative). Along an axis of N points the colour is the index modulo M, M at
-  // least the distance (in spacings) at which the kernel's gradient vanishes,
-  // and the N - qM points past the last whole block of M each have a colour
-  // of their own: two points of one colour are then M or more apart across
-  // the periodic end too, whatever N is. Of the M from that least to twice
-  // it, the one with the fewest colours (M plus the points left over); a
-  // divisor of N on a tie. Without the leftover colours a lattice of a prime
+  // cost: it differs from J's by about 1e-5, relative). Along an axis of N
+  // points the colour is the index modulo M, M at least the distance (in
+  // spacings) at which the kernel's gradient vanishes, and the N - qM points
+  // past the last whole block of M each have a colour of their own: two
+  // points of one colour are then M or more apart across the periodic end
+  // too, whatever N is. Of the M from that least to twice it, the one with
+  // the fewest colours (M plus the points left over); a divisor of N on a
+  // tie. Without the leftover colours a lattice of a prime
   // number of points a side had N colours along each axis: N^Dim products
   // (23 a side in 3D: over a minute of set-up, against 2.7 s at 24).
   View velocity_diagonal(Accuracy accuracy = Accuracy::Forward) {
