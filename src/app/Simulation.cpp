@@ -546,7 +546,6 @@ bool Simulation<Dim, ExecSpace>::take_linear_state() {
       lattice_products_ = {};
       return false;
     }
-    slot_mass_ = Scalars("poresph::Simulation::slot_mass", slots);
     pressure_slope_ = Scalars("poresph::Simulation::pressure_slope", slots);
     slot_scalars_ = Scalars("poresph::Simulation::slot_scalars", slots);
     slot_rows_ = Rows("poresph::Simulation::slot_rows", slots, Dim);
@@ -554,12 +553,11 @@ bool Simulation<Dim, ExecSpace>::take_linear_state() {
   // Each slot's d(p/rho^2)/dp at the state: fluid and boundary particles
   // alike (an extrapolated wall has rho = p / c^2 too).
   const auto P = particles_;
-  const auto mass = slot_mass_, slope = pressure_slope_;
+  const auto slope = pressure_slope_;
   const double c2 = derived_.sound_speed * derived_.sound_speed, reference = reference_pressure_;
   static const std::string label = "poresph::Simulation::take_linear_state";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space_, 0, slots), KOKKOS_LAMBDA(int j) {
-        mass(j) = P.m(j);
         slope(j) = pressure_term_slope(P.p(j) - reference, P.rho(j), c2);
       });
   space_.fence();
@@ -589,7 +587,7 @@ void Simulation<Dim, ExecSpace>::pressure_product(const Scalars& dp, const Rows&
   space_.fence();
   if (extrapolate_walls_) neighbourhood_.update_ghost_values(values, owned);
   Kokkos::deep_copy(space_, dvdt, 0.0);
-  lattice_products_.gradient(values, slot_mass_, dvdt);
+  lattice_products_.gradient(values, particles_.m, dvdt);
 }
 
 template <int Dim, class ExecSpace>
@@ -605,13 +603,13 @@ void Simulation<Dim, ExecSpace>::continuity_product(const Rows& dv, const Scalar
   space_.fence();
   neighbourhood_.update_ghost_values(values, owned);
   Kokkos::deep_copy(space_, drhodt, 0.0);
-  lattice_products_.divergence(values, slot_mass_, drhodt);
+  lattice_products_.divergence(values, particles_.m, drhodt);
 }
 
 template <int Dim, class ExecSpace>
 double Simulation<Dim, ExecSpace>::linear_product_values() const {
   if (!lattice_products_.built()) return 0;
-  return lattice_products_.values_held() + static_cast<double>(slot_mass_.extent(0)) * (3 + Dim);
+  return lattice_products_.values_held() + static_cast<double>(pressure_slope_.extent(0)) * (2 + Dim);
 }
 
 template <int Dim, class ExecSpace>

@@ -308,10 +308,10 @@ class Simulation {
   LatticeStencil<Dim, MemorySpace> pair_stencil_, wall_stencil_;
   PairSums<Dim, ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
   // The steady solver's linear products (take_linear_state()): the
-  // stencil sums, each slot's mass and pressure-term slope at the state,
-  // and values per slot that the halo carries to the ghosts.
+  // stencil sums, each slot's pressure-term slope at the state, and values
+  // per slot that the halo carries to the ghosts.
   LatticeProducts<Dim, ExecSpace> lattice_products_;
-  Scalars slot_mass_, pressure_slope_, slot_scalars_;
+  Scalars pressure_slope_, slot_scalars_;
   Rows slot_rows_;
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;

@@ -164,9 +164,9 @@ class SteadySystem {
   // points of one colour are then M or more apart across the periodic end
   // too, whatever N is. Of the M from that least to twice it, the one with
   // the fewest colours (M plus the points left over); a divisor of N on a
-  // tie. Without the leftover colours a lattice of a prime
-  // number of points a side had N colours along each axis: N^Dim products
-  // (23 a side in 3D: over a minute of set-up, against 2.7 s at 24).
+  // tie. Without the leftover colours a lattice of a prime number of points
+  // a side had N colours along each axis: N^Dim products (23 a side in 3D:
+  // over a minute of set-up, against 2.7 s at 24).
   View velocity_diagonal(Accuracy accuracy = Accuracy::Forward) {
     const double dx = sim_.scene().particle_spacing;
     const double cutoff = 3.0 * sim_.derived().smoothing_length;
@@ -218,6 +218,12 @@ class SteadySystem {
   }
 
  private:
+  // What a velocity row of F is divided by dv/dt - kappa v into: 1 + kappa
+  // dt (see the top of the file), 0 on rows that are not fluid.
+  KOKKOS_INLINE_FUNCTION static double velocity_row_weight(double fluid, double kappa, double dt) {
+    return fluid / (1.0 + kappa * dt);
+  }
+
   // apply() of the pressure term alone (G: velocity rows of wq, the density
   // rows zero) or of continuity alone (D: density rows of wv, the velocity
   // rows zero) by the simulation's linear products: the forward difference's
@@ -238,8 +244,7 @@ class SteadySystem {
       static const std::string label = "poresph::steady::linear_gradient_rows";
       Kokkos::parallel_for(
           label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
-            const double kappa = drag ? P.wall_drag(i) : 0.0;
-            const double weight = fluid(i) / (1.0 + kappa * dt);
+            const double weight = velocity_row_weight(fluid(i), drag ? P.wall_drag(i) : 0.0, dt);
             for (int d = 0; d < Dim; ++d) out_v(i * Dim + d) *= weight;
           });
       space_.fence();
@@ -288,7 +293,7 @@ class SteadySystem {
     Kokkos::parallel_for(
         label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
           const double kappa = drag ? P.wall_drag(i) : 0.0;
-          const double weight = fluid(i) / (1.0 + kappa * dt);
+          const double weight = velocity_row_weight(fluid(i), kappa, dt);
           for (int d = 0; d < Dim; ++d) out_v(i * Dim + d) = weight * (P.dvdt(i, d) - kappa * P.v(i, d));
           out_q(i) = fluid(i) * to_q * P.drhodt(i);
         });
