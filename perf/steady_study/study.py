@@ -15,6 +15,9 @@ Methods:
   simple           as lsc, Schur by D diag(A)^-1 G, exact
   scaled-identity  as lsc, Schur by s I (s: the Schur complement on a smooth mode)
   lsc-inner        as lsc, (DG)^-1 by unpreconditioned GMRES to --inner-tol; counts DG products
+  lsc-capped       as lsc, (DG + s I)^-1 as the steady solver solves it: GMRES with the wide
+                   Laplacian to --inner-tol, at most --inner-maxit; and by LU (--dg-shift)
+  weak-modes       the --modes eigenvalues of DG nearest 0 (sparse): size, participation, place
   sa               DG alone: GMRES unpreconditioned, with the wide (stride-2) compact Laplacian, and
                    with smoothed aggregation on modulated near-null vectors (--block, default 4)
   lsc-sa           as lsc, (DG)^-1 by GMRES with that smoothed aggregation to --inner-tol
@@ -192,9 +195,9 @@ class System:
 
 
 def report(label, system, x, iterations, history, seconds, extra=""):
-    error = permeability(system.info, x[:-1]) / system.k - 1
-    print(f"  {label}: {iterations} iterations, residual {history[-1]:.1e}, k {error:+.1e} from direct, "
-          f"{seconds:.1f} s{extra}")
+    k = permeability(system.info, x[:-1])
+    print(f"  {label}: {iterations} iterations, residual {history[-1]:.1e}, k {k:.6e} ({k / system.k - 1:+.1e} "
+          f"from direct), {seconds:.1f} s{extra}")
 
 
 def smooth_mode_schur(system, A_lu):
@@ -285,6 +288,67 @@ def method_lsc_inner(system, args):
 
     krylov_with_schur(system, args, lambda rp: -solve(DAG @ solve(rp)), f"LSC, (DG)^-1 by GMRES to {args.inner_tol:g}")
     print(f"  DG products: {products[0]}")
+
+
+def method_lsc_capped(system, args):
+    """LSC as the steady solver applies it: each (DG)^-1 by FGMRES (restart 30) on
+    DG + s I (s = --dg-shift times DG's mean diagonal) to --inner-tol, at most
+    --inner-maxit iterations, preconditioned by --inner-preconditioner: the wide Laplacian
+    (stride 2, solid neighbours on the diagonal) solved exactly and scaled to DG on a
+    smooth mode, nothing, or the smoothed aggregation of `sa` (blocks of 4); the mean
+    removed after. And, for comparison, (DG + s I)^-1 by LU."""
+    DG, DAG = dg_operators(system)
+    shift = args.dg_shift * DG.diagonal().mean()
+    shifted = (DG + shift * sp.identity(system.n)).tocsr()
+    L = system.compact_laplacian(neumann=False, stride=2)
+    smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
+    scale = (smooth @ (DG @ smooth)) / (smooth @ (L @ smooth))
+    wide = spla.splu(L.tocsc())
+    preconditioners = {"wide": lambda z: wide.solve(z) / scale, "none": lambda z: z}
+    if args.inner_preconditioner == "sa":
+        preconditioners["sa"] = dg_multigrid(system, DG.tocsr(), 4)[0]
+    inner = [0, 0]
+
+    def capped(r):
+        x, its, _ = fgmres(lambda y: shifted @ y, r, preconditioners[args.inner_preconditioner], args.inner_tol,
+                           args.inner_maxit, 30)
+        inner[0] += its
+        inner[1] += 1
+        return x - x.mean()
+
+    exact = spla.splu(shifted.tocsc()).solve
+    krylov_with_schur(system, args, lambda rp: -capped(DAG @ capped(rp)),
+                      f"LSC, (DG + {args.dg_shift:g} diag I)^-1 by GMRES to {args.inner_tol:g}, "
+                      f"at most {args.inner_maxit}, preconditioned by {args.inner_preconditioner}")
+    print(f"  inner iterations {inner[0]} in {inner[1]} solves")
+    krylov_with_schur(system, args, lambda rp: -(lambda p: p - p.mean())(exact(DAG @ exact(rp))),
+                      f"LSC, (DG + {args.dg_shift:g} diag I)^-1 by LU")
+
+
+def method_weak_modes(system, args):
+    """The --modes eigenvalues of DG nearest 0 (shift-invert, sparse), over DG's mean
+    diagonal, against a smooth mode's Rayleigh quotient; per mode how many particles carry
+    it (participation 1 / sum v^4 of the normalised mode), its largest entry's lattice point
+    and that point's fluid neighbours among its 3^d - 1."""
+    DG, _ = dg_operators(system)
+    size = DG.diagonal().mean()
+    smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
+    print(f"  smooth mode cos(2 pi x / L): {(smooth @ (DG @ smooth)) / (smooth @ smooth) / size:.2e}")
+    index = -np.ones(system.shape, dtype=int)
+    index[tuple(system.lattice.T)] = np.arange(system.n)
+    neighbours = np.zeros(system.n, dtype=int)
+    for offset in np.ndindex(*(3,) * system.dim):
+        step = np.array(offset) - 1
+        if step.any():
+            neighbours += index[tuple(((system.lattice + step) % system.shape).T)] >= 0
+    values, vectors = spla.eigs(DG.tocsc(), k=args.modes, sigma=0, which="LM")
+    order = np.argsort(np.abs(values))
+    for mode in order:
+        v = np.real(vectors[:, mode])
+        v /= np.linalg.norm(v)
+        top = int(np.argmax(v ** 2))
+        print(f"  {abs(values[mode]) / size:.2e}: participation {1 / (v ** 4).sum():7.1f}, largest at "
+              f"{tuple(int(c) for c in system.lattice[top])} ({neighbours[top]} fluid neighbours)")
 
 
 def method_stabilised(system, args):
@@ -668,6 +732,8 @@ METHODS = {
     "simple": method_simple,
     "scaled-identity": method_scaled_identity,
     "lsc-inner": method_lsc_inner,
+    "lsc-capped": method_lsc_capped,
+    "weak-modes": method_weak_modes,
     "stabilised": method_stabilised,
     "schwarz": method_schwarz,
     "two-grid": method_two_grid,
@@ -687,6 +753,11 @@ def main():
     parser.add_argument("--maxit", type=int, default=400)
     parser.add_argument("--restart", type=int, default=None, help="GMRES restart (default: none)")
     parser.add_argument("--inner-tol", type=float, default=1e-2)
+    parser.add_argument("--inner-maxit", type=int, default=100, help="lsc-capped: inner iterations at most")
+    parser.add_argument("--inner-preconditioner", choices=["wide", "none", "sa"], default="wide",
+                        help="lsc-capped: what preconditions the DG solves")
+    parser.add_argument("--dg-shift", type=float, default=1e-10,
+                        help="lsc-capped: the shift of DG, over its mean diagonal")
     parser.add_argument("--beta", type=float, nargs="+", default=[1e-3, 1e-2, 1e-1])
     parser.add_argument("--block", type=int, default=None,
                         help="Schwarz blocks (default 8) or aggregates (default 4), in lattice points a side")
