@@ -421,7 +421,11 @@ RCP<ParameterList> make_valid_parameters() {
           "'steady': relative tolerance of the preconditioner's inner solves (the pressure operator DG and the "
           "velocity block).",
           real_in(1e-12, 0.9));
-    s.set("Max Inner Iterations", 100, "'steady': iterations of each inner solve at most.", int_in(1, 1 << 20));
+    s.set("Max Inner Iterations", 100,
+          "'steady': iterations of each inner solve at most. An image whose passages are one or two particles "
+          "wide can need 1000 (docs/steady_solver.md, 'What fails on a blobs image'); an unconverged solve's "
+          "warning says when its inner solves came near it.",
+          int_in(1, 1 << 20));
   }
   {
     auto& s = list->sublist("Parallel", false, "How the cell is divided among MPI processes.");

@@ -8,7 +8,9 @@
   agree on k to 1e-5 (not bits: the sums go in another order);
 - a solve held to 2 linear iterations does not converge: exit status 4, a
   warning, "converged": false, "steady": false, stopped_by not_converged,
-  and a checkpoint from which --restart then converges to the same k;
+  and a checkpoint from which --restart then converges to the same k; its
+  warning names Solver/Max Inner Iterations only when the inner solves
+  were near it (held to 1 iteration);
 - the ladder, the tensor and the linearity check run with it;
 - a channel solves to its k without a start-up profile check (a transient);
 - moving particles are refused (exit 2, nothing written).
@@ -91,8 +93,15 @@ check("did not converge" in done.stderr and any("did not converge" in w for w in
 check(capped["solver"]["converged"] is False and capped["steady"] is False
       and capped["stopped_by"] == "not_converged" and capped["solver"]["linear_iterations"] == 2,
       f"capped solve: converged false, steady false, stopped_by {capped['stopped_by']}")
+check(not any("Max Inner Iterations" in w for w in capped["warnings"]),
+      "capped solve: its inner solves were far from their cap, and the warning does not name it")
 checkpoint = os.path.join(out, "checkpoint.h5")
 check(os.path.exists(checkpoint), "capped solve: checkpoint.h5 written")
+# Inner solves held to one iteration: the warning names that cap.
+done, inner, _ = run("steady-inner-capped", ["Solver/Method=steady", TIGHT, "Solver/Max Linear Iterations=2",
+                                             "Solver/Max Nonlinear Iterations=1", "Solver/Max Inner Iterations=1"])
+check(done.returncode == 4 and any("Solver/Max Inner Iterations = 1:" in w for w in inner["warnings"]),
+      "inner solves held to 1 iteration: exit status 4, the warning names Solver/Max Inner Iterations")
 done, resumed, _ = run("steady-resumed", ["Solver/Method=steady", TIGHT], restart=checkpoint)
 check(done.returncode == 0 and resumed["solver"]["converged"] and abs(kxx(resumed) / kxx(one) - 1) < 1e-5,
       f"restart of the capped solve: converged, k {kxx(resumed):.10e}")
