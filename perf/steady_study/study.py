@@ -15,8 +15,8 @@ Methods:
   simple           as lsc, Schur by D diag(A)^-1 G, exact
   scaled-identity  as lsc, Schur by s I (s: the Schur complement on a smooth mode)
   lsc-inner        as lsc, (DG)^-1 by unpreconditioned GMRES to --inner-tol; counts DG products
-  lsc-capped       as lsc, (DG + s I)^-1 as the steady solver solves it: GMRES with the wide
-                   Laplacian to --inner-tol, at most --inner-maxit; and by LU (--dg-shift)
+  lsc-capped       as lsc, (DG + s I)^-1 as the steady solver solves it: GMRES to --inner-tol, at
+                   most --inner-maxit, with --inner-preconditioner; and by LU (--dg-shift)
   weak-modes       the --modes eigenvalues of DG nearest 0 (sparse): size, participation, place
   sa               DG alone: GMRES unpreconditioned, with the wide (stride-2) compact Laplacian, and
                    with smoothed aggregation on modulated near-null vectors (--block, default 4)
@@ -292,7 +292,8 @@ def method_lsc_inner(system, args):
 
 def method_lsc_capped(system, args):
     """LSC as the steady solver applies it: each (DG)^-1 by FGMRES (restart 30) on
-    DG + s I (s = --dg-shift times DG's mean diagonal) to --inner-tol, at most
+    DG + s I (s = --dg-shift times DG's mean diagonal; the solver's is 1e-10 of DG's
+    largest eigenvalue, as small against the weak modes) to --inner-tol, at most
     --inner-maxit iterations, preconditioned by --inner-preconditioner: the wide Laplacian
     (stride 2, solid neighbours on the diagonal) solved exactly and scaled to DG on a
     smooth mode, nothing, or the smoothed aggregation of `sa` (blocks of 4); the mean
