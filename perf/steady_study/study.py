@@ -255,6 +255,18 @@ def exact_dg_solver(DG):
     return spla.splu((DG + shift * sp.identity(DG.shape[0])).tocsc()).solve
 
 
+def wide_laplacian_solver(system, DG):
+    """r -> L^-1 r / s by LU: L the wide Laplacian (stride 2, solid neighbours on the
+    diagonal; zero at the same Brillouin-zone corners as DG, it splits into 2^d
+    independent compact Laplacians on the sub-lattices of spacing 2), s its ratio to DG
+    on a smooth mode."""
+    L = system.compact_laplacian(neumann=False, stride=2)
+    smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
+    scale = (smooth @ (DG @ smooth)) / (smooth @ (L @ smooth))
+    lu = spla.splu(L.tocsc())
+    return lambda r: lu.solve(r) / scale
+
+
 def method_lsc(system, args):
     DG, DAG = dg_operators(system)
     solve = exact_dg_solver(DG)
@@ -301,11 +313,7 @@ def method_lsc_capped(system, args):
     DG, DAG = dg_operators(system)
     shift = args.dg_shift * DG.diagonal().mean()
     shifted = (DG + shift * sp.identity(system.n)).tocsr()
-    L = system.compact_laplacian(neumann=False, stride=2)
-    smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
-    scale = (smooth @ (DG @ smooth)) / (smooth @ (L @ smooth))
-    wide = spla.splu(L.tocsc())
-    preconditioners = {"wide": lambda z: wide.solve(z) / scale, "none": lambda z: z}
+    preconditioners = {"wide": wide_laplacian_solver(system, DG), "none": lambda z: z}
     if args.inner_preconditioner == "sa":
         preconditioners["sa"] = dg_multigrid(system, DG.tocsr(), 4)[0]
     inner = [0, 0]
@@ -630,16 +638,10 @@ def method_sa(system, args):
     DG = DG.tocsr()
     b = DG @ np.random.default_rng(1).standard_normal(system.n)  # in the range of DG
     multigrid, hierarchy, setup = dg_multigrid(system, DG, args.block, args.edges, args.gauss_seidel)
-    # The wide Laplacian: stride 2, solid neighbours on the diagonal. Zero at the same
-    # Brillouin-zone corners as DG; it splits into 2^d independent compact Laplacians
-    # on the sub-lattices of spacing 2.
-    L = system.compact_laplacian(neumann=False, stride=2)
-    smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
-    scale = (smooth @ (DG @ smooth)) / (smooth @ (L @ smooth))
-    wide_lu = spla.splu(L.tocsc())
+    wide = wide_laplacian_solver(system, DG)
     print(f"  smoothed aggregation: levels {hierarchy.sizes()}, set-up {setup:.1f} s")
     for label, M in [("DG, none", lambda r: r),
-                     ("DG, wide Laplacian (exact)", lambda r: wide_lu.solve(r) / scale),
+                     ("DG, wide Laplacian (exact)", wide),
                      ("DG, smoothed aggregation " + ("V(1,1) Gauss-Seidel" if args.gauss_seidel else "V(2,2)"),
                       multigrid)]:
         t = time.time()
