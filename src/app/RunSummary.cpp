@@ -32,13 +32,15 @@ bool tensor_records(const std::vector<StageRecord>& records) {
 
 // A steady solve that stopped short of Solver/Tolerance: its k is not the answer.
 // A linear iteration runs two DG solves and one of the velocity block, each
-// of at most max_inner_iterations: with 1.5 times that or more a linear
-// iteration, the DG solves were near their cap. On the narrow passages of
-// an image their result is then too rough for the outer solve to use
-// (docs/steady_solver.md, "What fails on a blobs image"), and raising the
-// cap is what helped there. 0: the cap is not known.
-std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, int max_inner_iterations) {
-  char text[700];
+// of at most the inner cap (max_inner_iterations, which a stalled linear
+// solve raises as far as raised_inner_iterations): with 1.5 times the first
+// or more a linear iteration, the DG solves were near their cap. On the
+// narrow passages of an image their result is then too rough for the outer
+// solve to use (docs/steady_solver.md, "What fails on a blobs image"), and
+// a higher cap is what helped there. 0: the cap is not known.
+std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, int max_inner_iterations,
+                                int raised_inner_iterations) {
+  char text[800];
   int n = std::snprintf(text, sizeof text,
                         "the steady solve of %s did not converge: relative residual %.3g after %lld Newton and %lld "
                         "linear iterations; k is that of its last state, which the checkpoint keeps (raise Solver/Max "
@@ -51,9 +53,9 @@ std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, i
       n < static_cast<int>(sizeof text))
     std::snprintf(text + n, sizeof text - n,
                   "; its inner solves took %.0f iterations a linear iteration, near the cap of its two DG solves, "
-                  "Solver/Max Inner Iterations = %d: raising it may help (docs/steady_solver.md, \"What fails on a "
-                  "blobs image\")",
-                  inner_per_linear, max_inner_iterations);
+                  "Solver/Max Inner Iterations = %d (raised when the solve stalls, at most to Solver/Raised Inner "
+                  "Iterations = %d): raising them may help (docs/steady_solver.md, \"What fails on a blobs image\")",
+                  inner_per_linear, max_inner_iterations, std::max(raised_inner_iterations, max_inner_iterations));
   return text;
 }
 
@@ -82,7 +84,8 @@ std::string unsteady_warning(const StageRecord& r, int levels, bool tensor) {
 // Darcy check, whether every stage was steady (a warning for each that
 // sought a steady k and did not reach it).
 void summarise_stages(const std::vector<StageRecord>& records, int dim, int levels, bool steady_sought,
-                      RunReport& report, double reynolds_scale, int max_inner_iterations) {
+                      RunReport& report, double reynolds_scale, int max_inner_iterations,
+                      int raised_inner_iterations) {
   report.steps = 0, report.simulated_time = 0, report.neighbour_rebuilds = 0;
   for (const auto& r : records) {
     report.steps += r.steps;
@@ -104,7 +107,8 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     solver.solve_seconds += r.solver_solve_seconds;
     solver.bytes_per_particle = std::max(solver.bytes_per_particle, r.solver_bytes_per_particle);
     if (!r.solver_converged)
-      report.warnings.push_back(unconverged_warning(r, levels, tensor_records(records), max_inner_iterations));
+      report.warnings.push_back(unconverged_warning(r, levels, tensor_records(records), max_inner_iterations,
+                                                     raised_inner_iterations));
   }
   bool any = false, steady = true;
   const bool tensor = tensor_records(records);

@@ -247,7 +247,9 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   double steady_per_process = 0;
   if (scene.steady_solver) {
     const int restart = std::max(1, scene.solver.restart);
-    const int inner_restart = std::max(1, std::min(scene.solver.inner_restart, scene.solver.max_inner_iterations));
+    // The inner cap may be raised (Solver/Raised Inner Iterations), and the restart with it.
+    const int inner_cap = std::max(scene.solver.max_inner_iterations, scene.solver.raised_inner_iterations);
+    const int inner_restart = std::max(1, std::min(scene.solver.inner_restart, inner_cap));
     const double vectors = steady_vector_values(2.0 * restart + 1, 2.0 * inner_restart + 1, D * owned, owned);
     steady_per_process = 8.0 * (vectors + 25.0 * static_cast<double>(e.lattice_points));
     e.bytes_per_process += steady_per_process;

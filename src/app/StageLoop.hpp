@@ -236,6 +236,8 @@ class StageLoop {
         const double eta = seconds() * std::max(span - done, 0.0) / done;
         n += std::snprintf(text + n, sizeof text - n, "  ETA %.0f s", eta);
       }
+      if (s.inner_cap > scene_.solver.max_inner_iterations)
+        n += std::snprintf(text + n, sizeof text - n, "  inner cap %d", s.inner_cap);
       if (measures_permeability() && force > 0)
         std::snprintf(text + n, sizeof text - n, "  k = %.5e m^2",
                       scene_.kinematic_viscosity * sim.superficial_velocity()[axis_] / force);

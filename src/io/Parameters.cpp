@@ -422,9 +422,14 @@ RCP<ParameterList> make_valid_parameters() {
           "velocity block).",
           real_in(1e-12, 0.9));
     s.set("Max Inner Iterations", 100,
-          "'steady': iterations of each inner solve at most. An image whose passages are one or two particles "
-          "wide can need 1000 (docs/steady_solver.md, 'What fails on a blobs image'); an unconverged solve's "
-          "warning says when its inner solves came near it.",
+          "'steady': iterations of each inner solve at most, to start with (see Raised Inner Iterations). An "
+          "image whose passages are one or two particles wide can need 1000 (docs/steady_solver.md, 'What fails "
+          "on a blobs image'); an unconverged solve's warning says when its inner solves came near it.",
+          int_in(1, 1 << 20));
+    s.set("Raised Inner Iterations", 1600,
+          "'steady': what Max Inner Iterations is raised to at most, 4 times at a time, when a linear solve has "
+          "not halved its residual over Krylov Restart iterations while most of its DG solves ended at the cap. "
+          "At or below Max Inner Iterations: never raised.",
           int_in(1, 1 << 20));
   }
   {

@@ -589,6 +589,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.solver.inner_restart = solver.get<int>("Inner Krylov Restart");
   scene.solver.inner_tolerance = solver.get<double>("Inner Tolerance");
   scene.solver.max_inner_iterations = solver.get<int>("Max Inner Iterations");
+  scene.solver.raised_inner_iterations = solver.get<int>("Raised Inner Iterations");
   if (scene.steady_solver) {
     // What the steady equations are: those of particles that stay where they are.
     if (scene.particle_motion != ParticleMotion::Fixed)

@@ -12,7 +12,8 @@ struct SteadyOptions {
   int restart = 30;        // of the outer GMRES (a Newton step's)
   int inner_restart = 30;  // of the inner solves (at most max_inner_iterations)
   double inner_tolerance = 1e-2;
-  int max_inner_iterations = 100;
+  int max_inner_iterations = 100;    // the inner solves' cap to start with
+  int raised_inner_iterations = 1600;  // what a stalled linear solve may raise it to (x4 at a time)
 };
 
 // The doubles the steady solver's vectors take for nv velocity and nq

@@ -46,6 +46,7 @@ struct SteadyReport {
   int nonlinear_iterations = 0;
   long long linear_iterations = 0;
   long long inner_iterations = 0;
+  int inner_cap = 0;  // the inner solves' cap at the end (raised from Solver/Max Inner Iterations)
   long long rate_evaluations = 0;          // of all the pair terms
   long long partial_rate_evaluations = 0;  // of the pressure or the continuity term alone
   double residual = std::numeric_limits<double>::quiet_NaN();
@@ -59,6 +60,7 @@ struct SteadyProgress {
   long long linear_iterations = 0;
   double residual = 0;         // of the nonlinear system, relative
   double linear_residual = 0;  // of the Newton step being solved
+  int inner_cap = 0;           // the inner solves' cap now (raised from Solver/Max Inner Iterations)
 };
 
 template <int Dim, class ExecSpace>
@@ -96,6 +98,7 @@ class SteadySolver {
     const auto& ops = system.vectors();
     const int nv = system.owned() * Dim, nq = system.owned(), n = nv + nq + 1;
     fluid_count_ = static_cast<double>(system.fluid_particles());
+    inner_cap_ = options_.max_inner_iterations;
     work_residual_q_ = View("steady_residual_q_drift_free", nq);
     setup_preconditioner(system);
     const double reference = rest_residual(system);
@@ -106,6 +109,7 @@ class SteadySolver {
     double residual = relative_residual(system, reference), previous_residual = residual, retry_tolerance = 0;
     SteadyProgress status;
     status.residual = residual;
+    status.inner_cap = inner_cap_;
     while (residual > options_.tolerance && report.nonlinear_iterations < options_.max_nonlinear_iterations &&
            std::isfinite(residual)) {
       // rhs = -F (the border row: 0)
@@ -130,9 +134,12 @@ class SteadySolver {
       if (retry_tolerance > 0) krylov.tolerance = retry_tolerance;
       krylov.max_iterations = options_.max_linear_iterations;
       krylov.restart = options_.restart;
+      CapWatch watch{0, 1.0, dg_solves_, capped_dg_solves_};
       krylov.after_iteration = [&](int iterations, double linear_residual) {
+        watch_inner_cap(watch, iterations, linear_residual);
         status.linear_iterations = report.linear_iterations + iterations;
         status.linear_residual = linear_residual;
+        status.inner_cap = inner_cap_;
         if (progress_) progress_(status);
         return should_stop_ && should_stop_();
       };
@@ -184,6 +191,7 @@ class SteadySolver {
     report.residual = residual;
     report.converged = residual <= options_.tolerance && !report.interrupted;
     report.inner_iterations = inner_iterations_;
+    report.inner_cap = inner_cap_;
     report.rate_evaluations = system.rate_evaluations();
     report.partial_rate_evaluations = system.partial_rate_evaluations();
     report.solve_seconds = seconds_since(start) - report.setup_seconds;
@@ -198,6 +206,29 @@ class SteadySolver {
   }
 
  private:
+  // Where a linear solve stood when the inner cap was last looked at.
+  struct CapWatch {
+    int iteration;
+    double residual;
+    long long dg_solves, capped_dg_solves;
+  };
+  // The inner cap, raised x4 (at most to Solver/Raised Inner Iterations)
+  // when over a restart cycle of outer iterations the linear residual has
+  // not halved while at least half of the DG solves ended at the cap. On an
+  // image whose narrow passages give DG weak local modes, capped DG solves
+  // leave them unresolved and the outer solve stalls at its start
+  // (docs/steady_solver.md, "What fails on a blobs image"); where the outer
+  // solve moves, the cap stays. FGMRES allows a preconditioner that changes
+  // from one iteration to the next; all processes see the same counts.
+  void watch_inner_cap(CapWatch& watch, int iteration, double residual) {
+    if (iteration - watch.iteration < options_.restart) return;
+    const long long solves = dg_solves_ - watch.dg_solves, capped = capped_dg_solves_ - watch.capped_dg_solves;
+    if (residual > 0.5 * watch.residual && solves > 0 && 2 * capped >= solves &&
+        inner_cap_ < options_.raised_inner_iterations)
+      inner_cap_ = static_cast<int>(std::min<long long>(options_.raised_inner_iterations, 4LL * inner_cap_));
+    watch = {iteration, residual, dg_solves_, capped_dg_solves_};
+  }
+
   static double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
   // e . x over the fluid's density rows (e = fluid / sqrt(n)).
@@ -529,8 +560,8 @@ class SteadySolver {
   KrylovOptions inner_krylov() const {
     KrylovOptions krylov;
     krylov.tolerance = options_.inner_tolerance;
-    krylov.max_iterations = options_.max_inner_iterations;
-    krylov.restart = std::min(options_.inner_restart, options_.max_inner_iterations);
+    krylov.max_iterations = inner_cap_;
+    krylov.restart = std::min(options_.inner_restart, inner_cap_);
     // A stop signal is answered within an inner iteration, not at the end of
     // the outer one: an outer iteration of a million particles takes tens of
     // seconds, and mpirun kills the ranks about 2 s after it forwards a
@@ -554,6 +585,8 @@ class SteadySolver {
         },
         [&](const View& in, const View& out) { precondition_dg(in, out); }, r, p, krylov, inner_workspace_);
     inner_iterations_ += result.iterations;
+    ++dg_solves_;
+    if (!result.converged && result.iterations >= inner_cap_) ++capped_dg_solves_;
     inner_basis_ = std::max(inner_basis_, result.basis_vectors);
     add_border(system, -border_dot(system, p), p);  // p - e (e . p): the fluid mean out
   }
@@ -607,6 +640,8 @@ class SteadySolver {
   LatticePreconditioner<Dim, ExecSpace> wide_, compact_;
   double wide_scale_ = 0, compact_scale_ = 0;
   long long inner_iterations_ = 0;
+  int inner_cap_ = 0;                                  // what the inner solves may take now
+  long long dg_solves_ = 0, capped_dg_solves_ = 0;  // DG solves, and those that ended at the cap
   int outer_basis_ = 0, inner_basis_ = 0;  // the most vectors a solve's bases held
   KrylovWorkspace<ExecSpace> outer_workspace_, inner_workspace_;  // bases kept from solve to solve
   long long wall_rows_ = 0;  // velocity rows a wall's drag reaches, all processes

@@ -11,6 +11,9 @@
   and a checkpoint from which --restart then converges to the same k; its
   warning names Solver/Max Inner Iterations only when the inner solves
   were near it (held to 1 iteration);
+- a linear solve that stalls with its inner solves at their cap raises
+  the cap (Solver/Raised Inner Iterations), and converges in far fewer
+  linear iterations than with the cap held;
 - the ladder, the tensor and the linearity check run with it;
 - a channel solves to its k without a start-up profile check (a transient);
 - moving particles are refused (exit 2, nothing written).
@@ -100,8 +103,25 @@ check(os.path.exists(checkpoint), "capped solve: checkpoint.h5 written")
 # Inner solves held to one iteration: the warning names that cap.
 done, inner, _ = run("steady-inner-capped", ["Solver/Method=steady", TIGHT, "Solver/Max Linear Iterations=2",
                                              "Solver/Max Nonlinear Iterations=1", "Solver/Max Inner Iterations=1"])
-check(done.returncode == 4 and any("Solver/Max Inner Iterations = 1:" in w for w in inner["warnings"]),
+named = "Solver/Max Inner Iterations = 1 (raised when the solve stalls"
+check(done.returncode == 4 and any(named in w for w in inner["warnings"]),
       "inner solves held to 1 iteration: exit status 4, the warning names Solver/Max Inner Iterations")
+# A linear solve that stalls with its DG solves at the cap raises the cap
+# (x4 at a time, at most to Solver/Raised Inner Iterations): with the cap
+# fixed at 1 a linear iteration takes at most 3 inner ones (two DG solves,
+# one of the velocity block), so more a linear iteration means it rose.
+stalled = {}
+for raised in (1, 1600):
+    done, stalled[raised], _ = run(f"steady-raised-{raised}", ["Solver/Method=steady", "Solver/Max Inner Iterations=1",
+                                                              f"Solver/Raised Inner Iterations={raised}",
+                                                              "Solver/Max Linear Iterations=300"])
+fixed, raised = stalled[1]["solver"], stalled[1600]["solver"]
+check(fixed["inner_iterations"] <= 3 * fixed["linear_iterations"], f"cap held at 1: {fixed['inner_iterations']} inner "
+      f"in {fixed['linear_iterations']} linear iterations")
+check(raised["converged"] and raised["inner_iterations"] > 3 * raised["linear_iterations"]
+      and 2 * raised["linear_iterations"] < fixed["linear_iterations"],
+      f"cap raised from 1: converged in {raised['linear_iterations']} linear iterations ({raised['inner_iterations']} "
+      f"inner) against {fixed['linear_iterations']} with the cap held")
 done, resumed, _ = run("steady-resumed", ["Solver/Method=steady", TIGHT], restart=checkpoint)
 check(done.returncode == 0 and resumed["solver"]["converged"] and abs(kxx(resumed) / kxx(one) - 1) < 1e-5,
       f"restart of the capped solve: converged, k {kxx(resumed):.10e}")
