@@ -46,7 +46,6 @@ struct SteadyReport {
   int nonlinear_iterations = 0;
   long long linear_iterations = 0;
   long long inner_iterations = 0;
-  int inner_cap = 0;  // the inner solves' cap at the end (raised from Solver/Max Inner Iterations)
   long long rate_evaluations = 0;          // of all the pair terms
   long long partial_rate_evaluations = 0;  // of the pressure or the continuity term alone
   double residual = std::numeric_limits<double>::quiet_NaN();
@@ -191,7 +190,6 @@ class SteadySolver {
     report.residual = residual;
     report.converged = residual <= options_.tolerance && !report.interrupted;
     report.inner_iterations = inner_iterations_;
-    report.inner_cap = inner_cap_;
     report.rate_evaluations = system.rate_evaluations();
     report.partial_rate_evaluations = system.partial_rate_evaluations();
     report.solve_seconds = seconds_since(start) - report.setup_seconds;
@@ -640,7 +638,7 @@ class SteadySolver {
   LatticePreconditioner<Dim, ExecSpace> wide_, compact_;
   double wide_scale_ = 0, compact_scale_ = 0;
   long long inner_iterations_ = 0;
-  int inner_cap_ = 0;                                  // what the inner solves may take now
+  int inner_cap_ = 0;                               // what an inner solve may take now
   long long dg_solves_ = 0, capped_dg_solves_ = 0;  // DG solves, and those that ended at the cap
   int outer_basis_ = 0, inner_basis_ = 0;  // the most vectors a solve's bases held
   KrylovWorkspace<ExecSpace> outer_workspace_, inner_workspace_;  // bases kept from solve to solve
