@@ -10,9 +10,9 @@ struct SteadyOptions {
   int max_nonlinear_iterations = 10;
   int max_linear_iterations = 1000;  // per Newton step
   int restart = 30;        // of the outer GMRES (a Newton step's)
-  int inner_restart = 30;  // of the inner solves (at most max_inner_iterations)
+  int inner_restart = 30;  // of the inner solves (at most their cap)
   double inner_tolerance = 1e-2;
-  int max_inner_iterations = 100;    // the inner solves' cap to start with
+  int max_inner_iterations = 100;      // the inner solves' cap to start with
   int raised_inner_iterations = 1600;  // what a stalled linear solve may raise it to (x4 at a time)
 };
 
