@@ -272,27 +272,15 @@ def dg_schwarz(system, DG, block, overlap):
     extended by overlap points a side, DG on each extended block solved by LU (a
     shift of 1e-8 of its largest diagonal: the block of a closed pocket is
     singular), each block's solution kept on its own points."""
-    blocks = system.lattice // block
-    block_id = np.ravel_multi_index(tuple(blocks.T), tuple((system.shape + block - 1) // block))
     DG = DG.tocsr()
     patches = []
-    for b in np.unique(block_id):
-        owned = np.where(block_id == b)[0]
-        lo = blocks[owned[0]] * block - overlap
-        members = np.where(np.all((system.lattice - lo) % system.shape < block + 2 * overlap, axis=1))[0]
+    for members, owns in extended_blocks(system, block, overlap)[1]:
         local = DG[members][:, members].tocsc()
         local = local + 1e-8 * abs(local.diagonal()).max() * sp.identity(len(members), format="csc")
-        patches.append((members, np.isin(members, owned), spla.splu(local)))
+        patches.append((members, owns, spla.splu(local).solve))
     print(f"  Schwarz on DG: {len(patches)} blocks of {block}, overlap {overlap}, "
           f"largest {max(len(p[0]) for p in patches)} particles")
-
-    def apply(r):
-        z = np.zeros_like(r)
-        for members, owns, lu in patches:
-            z[members[owns]] += lu.solve(r[members])[owns]
-        return z
-
-    return apply
+    return restricted_additive_schwarz(patches)
 
 
 def method_lsc(system, args):
@@ -416,30 +404,39 @@ def method_stabilised(system, args):
             report(f"  {label} system, Schur s I + beta T", system, x, its, hist, time.time() - t)
 
 
+def extended_blocks(system, block, overlap):
+    """Each lattice point's block of block^d points, and per block its points extended
+    by overlap points a side (periodic) with which of them the block owns."""
+    blocks = system.lattice // block
+    block_id = np.ravel_multi_index(tuple(blocks.T), tuple((system.shape + block - 1) // block))
+    extended = []
+    for b in np.unique(block_id):
+        owned = np.where(block_id == b)[0]
+        lo = blocks[owned[0]] * block - overlap
+        members = np.where(np.all((system.lattice - lo) % system.shape < block + 2 * overlap, axis=1))[0]
+        extended.append((members, np.isin(members, owned)))
+    return block_id, extended
+
+
 def schwarz_patches(system, block, overlap):
     """Non-overlapping blocks of block^d lattice points, each extended by overlap;
     the inverse of the Jacobian on each extended block, and which rows it owns."""
     U = system.dim + 1
-    blocks = system.lattice // block
-    block_id = np.ravel_multi_index(tuple(blocks.T), tuple((system.shape + block - 1) // block))
+    block_id, extended = extended_blocks(system, block, overlap)
     patches = []
-    for b in np.unique(block_id):
-        owned = np.where(block_id == b)[0]
-        lo = blocks[owned[0]] * block - overlap
-        width = block + 2 * overlap
-        members = np.where(np.all((system.lattice - lo) % system.shape < width, axis=1))[0]
+    for members, owned in extended:
         unknowns = (members[:, None] * U + np.arange(U)).ravel()
-        owns = np.repeat(np.isin(members, owned), U)
-        patches.append((unknowns, owns, np.linalg.inv(system.Jb[unknowns][:, unknowns].toarray())))
+        patches.append((unknowns, np.repeat(owned, U), np.linalg.inv(system.Jb[unknowns][:, unknowns].toarray()).dot))
     return block_id, patches
 
 
 def restricted_additive_schwarz(patches):
+    """r -> the sum over patches (unknowns, owns, solve) of solve(r on the unknowns),
+    kept on the unknowns the patch owns."""
     def apply(r):
         z = np.zeros_like(r)
-        for unknowns, owns, inverse in patches:
-            local = inverse @ r[unknowns]
-            z[unknowns[owns]] += local[owns]
+        for unknowns, owns, solve in patches:
+            z[unknowns[owns]] += solve(r[unknowns])[owns]
         return z
 
     return apply
