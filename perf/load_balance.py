@@ -25,7 +25,7 @@ The runs of one comparison go one after the other on the same machine; the
 figures are wall-clock times and move with the machine's other load.
 
     perf/load_balance.py [--case column slowed shared] [--ranks 4] [--end-time 20] [--figure PNG]
-        [--threshold 1.1] [--interval 200] [--build build] [--out build/load_balance]
+        [--threshold 1.1] [--interval 200] [--spacing DX] [--build build] [--out build/load_balance]
 """
 import argparse
 import csv
@@ -135,23 +135,27 @@ def main():
     parser.add_argument("--slowed-end-time", type=float, default=6.0)
     parser.add_argument("--threshold", type=float, default=1.1)
     parser.add_argument("--interval", type=int, default=200)
+    parser.add_argument("--spacing", type=float, default=None,
+                        help="Discretization/Particle Spacing (the scene's 0.025 m if not given): a finer one "
+                             "gives each step more work than the scheduler's time slice")
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
     parser.add_argument("--out", default=os.path.join(ROOT, "build", "load_balance"))
     parser.add_argument("--figure", default=os.path.join(ROOT, "docs", "figures", "load_balance.png"))
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
+    spacing = [] if args.spacing is None else [f"Discretization/Particle Spacing={args.spacing}"]
     all_results = {}
     if "column" in args.case:
         all_results[f"settling column, {args.ranks} processes"] = compare(
-            "column", args.build, args.out, args.ranks, [f"Run/End Time={args.end_time}"], args.threshold,
+            "column", args.build, args.out, args.ranks, [f"Run/End Time={args.end_time}"] + spacing, args.threshold,
             args.interval, None)
     if "slowed" in args.case:
         all_results["2 processes, process 0 sharing its core"] = compare(
-            "slowed", args.build, args.out, 2, [f"Run/End Time={args.slowed_end_time}"], args.threshold,
+            "slowed", args.build, args.out, 2, [f"Run/End Time={args.slowed_end_time}"] + spacing, args.threshold,
             args.interval, "hog")
     if "shared" in args.case:
         all_results["3 processes, 0 and 1 sharing core 0"] = compare(
-            "shared", args.build, args.out, 3, [f"Run/End Time={args.slowed_end_time}"], args.threshold,
+            "shared", args.build, args.out, 3, [f"Run/End Time={args.slowed_end_time}"] + spacing, args.threshold,
             args.interval, "shared")
     plot(all_results, args.figure)
 

@@ -434,7 +434,9 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood() {
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::refresh_neighbourhood_only() {
-  if (next_decomposition_) {  // a rebalance: the particles go to their new owners now
+  const bool moving_owners = next_decomposition_.has_value();
+  const auto start = moving_owners ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
+  if (moving_owners) {  // a rebalance: the particles go to their new owners now
     const double skin = scene_.neighbour_skin * derived_.smoothing_length;
     neighbourhood_ =
         Neighbourhood<Dim, ExecSpace>(comm_, *next_decomposition_, scene_.cell_size, kernel_.cutoff, skin, fixed_);
@@ -447,10 +449,14 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood_only() {
   space_.fence();
   if (!rebuild) {
     neighbourhood_.update_ghosts(particles_);
-    return;
+  } else {
+    neighbourhood_.rebuild(space_, particles_);
+    built_neighbourhood();
   }
-  neighbourhood_.rebuild(space_, particles_);
-  built_neighbourhood();
+  if (moving_owners) {
+    space_.fence();
+    dividing_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
 }
 
 template <int Dim, class ExecSpace>
@@ -667,10 +673,29 @@ void Simulation<Dim, ExecSpace>::balance_stage() {
   b.imbalance = b.compute_mean > 0 ? b.compute_max / b.compute_mean : 1.0;
   b.particles_min = -comm_.max(-particles_.owned);
   b.particles_max = comm_.max(particles_.owned);
-  b.rebalanced = scene_.rebalance_threshold > 0 && b.imbalance > scene_.rebalance_threshold;
+  // A division made at the last measurement moved its particles in this
+  // interval: its cost is the slowest process's time in both.
+  const double divided = comm_.max(dividing_seconds_);
+  if (divided > 0) b.division_seconds = divided;
+  dividing_seconds_ = 0;
+  const bool past = scene_.rebalance_threshold > 0 && b.imbalance > scene_.rebalance_threshold;
+  // What balance would have saved: the slowest process's excess working
+  // time, counted where the imbalance is past the threshold (below it, the
+  // user's threshold says, it is noise a division cannot take away).
+  if (past) lost_since_division_ += (b.compute_max - b.compute_mean) * steps;
+  b.lost_seconds = lost_since_division_;
+  // Divide once the time lost pays for a division (the first, of unknown
+  // cost, at once): a division that costs more than it saves, such as one
+  // chasing an imbalance that flickers about the threshold, waits.
+  b.rebalanced = past && b.lost_seconds >= b.division_seconds;
   // By measured time, not counts: a process on a shared core, or with more
   // work a particle, weighs its particles more and is given fewer.
-  if (b.rebalanced) rebalance(compute_seconds_ / std::max(1, particles_.owned));
+  if (b.rebalanced) {
+    const auto divide_start = std::chrono::steady_clock::now();
+    rebalance(compute_seconds_ / std::max(1, particles_.owned));
+    dividing_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - divide_start).count();
+    lost_since_division_ = 0;
+  }
   compute_seconds_ = 0;
   balance_steps_ = 0;
   balance_start_ = std::chrono::steady_clock::now();

@@ -151,13 +151,20 @@ class Simulation {
   // (Parallel/Rebalance Threshold): every Rebalance Interval steps each
   // process's working time (its steps' wall time less its time in
   // collective operations) is compared, and past the threshold the cell is
-  // divided anew. What the last measurement found:
+  // divided anew once the time lost to the imbalance since the last
+  // division pays for a division (the slowest process's excess over the
+  // mean, summed over the intervals past the threshold, against the last
+  // division's measured wall time: for a steadily growing imbalance, the
+  // least mean cost a step, as in Nicol & Saltz's stop-at-rise rule). What
+  // the last measurement found:
   struct BalanceRecord {
     long long step = -1;                      // of the last measurement (-1: none yet)
     double seconds_per_step = 0;              // wall time a step over the interval
     double compute_max = 0, compute_mean = 0;  // working seconds a step, slowest and mean process
     double imbalance = 1;                     // compute_max / compute_mean
     bool rebalanced = false;                  // the cell was divided anew after it
+    double lost_seconds = 0;                  // the slowest's excess past the threshold since the last division
+    double division_seconds = 0;              // wall time of the last division (0: none measured yet)
     long long particles_min = 0, particles_max = 0;  // owned particles per process at the measurement
     long long rebalances = 0;                 // in the run so far
   };
@@ -320,6 +327,8 @@ class Simulation {
   BalanceRecord balance_;
   std::optional<Decomposition<Dim>> next_decomposition_;  // from rebalance(), taken at the next refresh
   double compute_seconds_ = 0;    // working (not waiting) since the last measurement
+  double dividing_seconds_ = 0;   // in the division since the last measurement: RCB and the particles' move
+  double lost_since_division_ = 0;  // BalanceRecord::lost_seconds, summed until a division
   int balance_steps_ = 0;         // steps since the last measurement
   std::chrono::steady_clock::time_point balance_start_;
   long long surface_corrections_ = 0;  // on this process

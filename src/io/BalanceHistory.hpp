@@ -5,8 +5,10 @@
 // process's working time a step (its wall time less its time in collective
 // operations; the slowest and the mean), their ratio (the imbalance),
 // whether the cell was then divided
-// anew, and the fewest and most particles a process owned. Written whether
-// or not the run rebalances, so that runs with and without compare.
+// anew, the fewest and most particles a process owned, the time lost to the
+// imbalance since the last division and what the last division cost.
+// Written whether or not the run rebalances, so that runs with and without
+// compare.
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -26,7 +28,7 @@ class BalanceHistory : public Observer<Sim> {
     if (sim.communicator().rank() != 0) return;
     file_.open(path,
                "step,time,seconds_per_step,compute_seconds_max,compute_seconds_mean,imbalance,rebalanced,"
-               "particles_min,particles_max\n",
+               "particles_min,particles_max,lost_seconds,division_seconds\n",
                continuing, rows_before);
   }
 
@@ -45,9 +47,9 @@ class BalanceHistory : public Observer<Sim> {
     std::ofstream* out = file_.stream();
     if (!out) return;
     char line[320];
-    std::snprintf(line, sizeof line, "%lld,%.12g,%.6g,%.6g,%.6g,%.6g,%d,%lld,%lld\n", sim.steps(), sim.time(),
+    std::snprintf(line, sizeof line, "%lld,%.12g,%.6g,%.6g,%.6g,%.9g,%d,%lld,%lld,%.17g,%.17g\n", sim.steps(), sim.time(),
                   b.seconds_per_step, b.compute_max, b.compute_mean, b.imbalance, b.rebalanced ? 1 : 0,
-                  b.particles_min, b.particles_max);
+                  b.particles_min, b.particles_max, b.lost_seconds, b.division_seconds);
     *out << line;
     file_.check();
   }

@@ -453,8 +453,10 @@ RCP<ParameterList> make_valid_parameters() {
           "spent working (its steps' wall time less its time in collective operations) is compared; when the slowest "
           "process's time over the mean passes this, Zoltan2 divides the cell anew with each particle weighted "
           "by its process's measured time per particle, and particles move to their new owners. So a process "
-          "that is slower (a shared core) gets less. 0: never; otherwise at least 1. balance_history.csv "
-          "records the time per step and the imbalance either way.",
+          "that is slower (a shared core) gets less. A division waits until the time the slowest process lost past "
+          "the threshold since the last division (its excess over the mean) exceeds what the last division cost "
+          "(measured; the first divides at once). 0: never; otherwise at least 1. balance_history.csv "
+          "records the time per step, the imbalance and both times either way.",
           real_in(0.0, kHuge));
     s.set("Rebalance Interval", 100, "Steps between the measurements of the balance (Rebalance Threshold).",
           int_in(1, std::numeric_limits<int>::max()));
