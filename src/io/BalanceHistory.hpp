@@ -47,8 +47,8 @@ class BalanceHistory : public Observer<Sim> {
     std::ofstream* out = file_.stream();
     if (!out) return;
     char line[320];
-    std::snprintf(line, sizeof line, "%lld,%.12g,%.6g,%.6g,%.6g,%.9g,%d,%lld,%lld,%.17g,%.17g\n", sim.steps(), sim.time(),
-                  b.seconds_per_step, b.compute_max, b.compute_mean, b.imbalance, b.rebalanced ? 1 : 0,
+    std::snprintf(line, sizeof line, "%lld,%.12g,%.6g,%.6g,%.6g,%.9g,%d,%lld,%lld,%.17g,%.17g\n", sim.steps(),
+                  sim.time(), b.seconds_per_step, b.compute_max, b.compute_mean, b.imbalance, b.rebalanced ? 1 : 0,
                   b.particles_min, b.particles_max, b.lost_seconds, b.division_seconds);
     *out << line;
     file_.check();

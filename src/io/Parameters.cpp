@@ -454,7 +454,7 @@ RCP<ParameterList> make_valid_parameters() {
           "process's time over the mean passes this, Zoltan2 divides the cell anew with each particle weighted "
           "by its process's measured time per particle, and particles move to their new owners. So a process "
           "that is slower (a shared core) gets less. A division waits until the time the slowest process lost past "
-          "the threshold since the last division (its excess over the mean) exceeds what the last division cost "
+          "the threshold since the last division (its excess over the mean) reaches what the last division cost "
           "(measured; the first divides at once). 0: never; otherwise at least 1. balance_history.csv "
           "records the time per step, the imbalance and both times either way.",
           real_in(0.0, kHuge));
