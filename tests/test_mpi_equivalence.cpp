@@ -10,6 +10,8 @@
 #include "Scenes.hpp"
 #include "app/Simulation.hpp"
 #include "diagnostics/SurfaceLoads.hpp"
+#include "solver/FluidRegions.hpp"
+#include "solver/SteadySolver.hpp"
 
 namespace poresph {
 namespace {
@@ -207,6 +209,46 @@ TEST(MpiEquivalence, BoxesThinnerThanTheSupport) {
   scene.cuts[0].push_back(1.0);
   scene.cuts[1] = {0.0, 1.0};
   expect_same_on_any_number_of_ranks(scene, 0.05);
+}
+
+// The fluid's regions (solver/FluidRegions.hpp) on the pocket cell (the
+// channel and its sealed pocket): each particle in the same region on any
+// number of processes as on one; and the steady solve, one border a region,
+// to the same k within its tolerance.
+std::map<long long, int> pocket_regions(const SceneConfig& scene, const Communicator& comm, double& k) {
+  Simulation<2, Kokkos::Serial> sim(scene, Kokkos::Serial(), comm);
+  sim.compute_rates();
+  const auto regions = find_fluid_regions(sim);
+  const auto& P = sim.particles();
+  const auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.id);
+  const auto of = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), regions.of);
+  std::string rows;
+  for (int i = 0; i < P.owned; ++i) rows += std::to_string(id(i)) + " " + std::to_string(of(i)) + "\n";
+  std::map<long long, int> result;
+  std::istringstream in(comm.gather_text(rows));
+  long long key;
+  int region;
+  while (in >> key >> region) result[key] = region;
+  SteadyOptions options;
+  options.tolerance = 1e-8;
+  SteadySolver<2, Kokkos::Serial> solver(sim, Kokkos::Serial(), options, nullptr, nullptr);
+  const auto report = solver.solve();
+  EXPECT_TRUE(report.converged) << comm.size() << " processes";
+  EXPECT_EQ(report.fluid_regions, 2);
+  k = scene.kinematic_viscosity * sim.superficial_velocity()[0] / scene.body_force[0];
+  return result;
+}
+
+TEST(MpiEquivalence, FluidRegionsAndSteadySolveOfPockets) {
+  const SceneConfig scene = testing::pocket_cell(false);
+  const Communicator world;
+  double k_distributed = 0, k_single = 0;
+  const auto distributed = pocket_regions(scene, world, k_distributed);
+  if (world.rank() != 0) return;
+  const auto single = pocket_regions(scene, Communicator(MPI_COMM_SELF), k_single);
+  EXPECT_EQ(distributed, single);
+  EXPECT_NEAR(k_distributed / k_single, 1.0, 1e-6);
+  std::printf("%d ranks: k %.9e, one rank: %.9e\n", world.size(), k_distributed, k_single);
 }
 
 }  // namespace

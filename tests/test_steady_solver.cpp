@@ -14,6 +14,7 @@
 #include "app/Simulation.hpp"
 #include "geometry/Grains.hpp"
 #include "solver/Fgmres.hpp"
+#include "solver/FluidRegions.hpp"
 #include "solver/LatticeMultigrid.hpp"
 #include "solver/LatticePreconditioner.hpp"
 #include "solver/SteadySolver.hpp"
@@ -447,6 +448,91 @@ TYPED_TEST(SteadySolverTest, SolvesToTheMarchedState) {
     EXPECT_NEAR(k_solved / k_marched, 1.0, 1e-5) << "convection " << convection << ": solved " << k_solved
                                                  << ", marched " << k_marched;
   }
+}
+
+// Lattice neighbours are the points one step away along each axis, corners included.
+TEST(FluidRegions, LatticeNeighboursIncludeCornersNotTwoSteps) {
+  const double dx = 0.1;
+  EXPECT_TRUE(lattice_neighbours<2>(Vec<2>{dx, 0}, dx));
+  EXPECT_TRUE(lattice_neighbours<2>(Vec<2>{-dx, dx}, dx));
+  EXPECT_FALSE(lattice_neighbours<2>(Vec<2>{2 * dx, 0}, dx));
+  EXPECT_FALSE(lattice_neighbours<2>(Vec<2>{2 * dx, dx}, dx));
+  EXPECT_TRUE(lattice_neighbours<3>(Vec<3>{dx, -dx, dx}, dx));
+  EXPECT_FALSE(lattice_neighbours<3>(Vec<3>{0, 2 * dx, 0}, dx));
+}
+
+// The regions: the channel, B (a wall between does not join) and A; each
+// fluid particle in the region of its place, and the sizes over all fluid
+// particles those of the places.
+TYPED_TEST(SteadySolverTest, FluidRegionsAreThePoresJoinedByLatticeNeighbours) {
+  using Space = TypeParam;
+  const SceneConfig scene = testing::pocket_cell(true);
+  Simulation<2, Space> sim(scene);
+  sim.compute_rates();  // the pair list
+  const auto regions = find_fluid_regions(sim);
+  ASSERT_EQ(regions.count(), 3);
+  const auto& P = sim.particles();
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
+  const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
+  const auto of = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), regions.of);
+  auto place = [&](int i) {
+    const double y = x(i, 1) / scene.particle_spacing;
+    return y < 6 ? 0 : y < 12 ? 1 : 2;  // the channel, B, A
+  };
+  int region_of_place[3] = {-1, -1, -1};
+  double particles_at_place[3] = {0, 0, 0};
+  for (int i = 0; i < P.owned; ++i) {
+    if (kind(i) != kFluid) {
+      EXPECT_EQ(of(i), -1);
+      continue;
+    }
+    int& expected = region_of_place[place(i)];
+    if (expected < 0) expected = of(i);
+    EXPECT_EQ(of(i), expected) << "at " << x(i, 0) << ", " << x(i, 1);
+    particles_at_place[place(i)] += 1;
+  }
+  for (int p = 0; p < 3; ++p) {
+    ASSERT_GE(region_of_place[p], 0) << "no fluid at place " << p;
+    EXPECT_EQ(regions.sizes[region_of_place[p]], particles_at_place[p]);
+  }
+  EXPECT_NE(region_of_place[0], region_of_place[1]);
+  EXPECT_NE(region_of_place[0], region_of_place[2]);
+  EXPECT_NE(region_of_place[1], region_of_place[2]);
+}
+
+// With a pocket sealed by solid (A), the solve converges to the march's
+// steady state (k to 1e-5), and every region keeps its mass: a single
+// border, one drift for the whole fluid, asks a sealed pocket for the
+// channel's drift, which its own continuity cannot give.
+TYPED_TEST(SteadySolverTest, SealedPocketKeepsItsMassAndTheMarchsK) {
+  using Space = TypeParam;
+  const SceneConfig scene = testing::pocket_cell(false);
+  auto k_of = [&](const Simulation<2, Space>& sim) {
+    return scene.kinematic_viscosity * sim.superficial_velocity()[0] / scene.body_force[0];
+  };
+  Simulation<2, Space> marched(scene);
+  double k_marched = 0, previous = -1;
+  while (std::abs(k_marched - previous) > 1e-8 * std::abs(k_marched)) {
+    previous = k_marched;
+    for (int s = 0; s < 200; ++s) marched.step();
+    k_marched = k_of(marched);
+  }
+  Simulation<2, Space> solved(scene);
+  SteadyOptions options;
+  options.tolerance = 1e-7;
+  SteadySolver<2, Space> solver(solved, Space(), options, nullptr, nullptr);
+  const auto report = solver.solve();
+  EXPECT_TRUE(report.converged);
+  EXPECT_EQ(report.fluid_regions, 2);
+  EXPECT_NEAR(k_of(solved) / k_marched, 1.0, 1e-5) << "solved " << k_of(solved) << ", marched " << k_marched;
+  // Each region's mass, against the start's (rho0 a particle).
+  const auto regions = find_fluid_regions(solved);
+  const auto of = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), regions.of);
+  const auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), solved.particles().rho);
+  std::vector<double> mean(regions.count(), 0.0);
+  for (int i = 0; i < solved.particles().owned; ++i)
+    if (of(i) >= 0) mean[of(i)] += rho(i) / regions.sizes[of(i)];
+  for (double m : mean) EXPECT_NEAR(m / scene.density, 1.0, 1e-12);
 }
 
 // LSC's scaling weighs down the velocity rows next to the disc and only

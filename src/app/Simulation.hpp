@@ -227,6 +227,11 @@ class Simulation {
   // read from the lattice stencil (else from the per-entry cache).
   bool pairs_on_stencil() const { return neighbourhood_.list().on_stencil(); }
   bool pairs_on_lattice_rows() const { return neighbourhood_.list().on_lattice_rows(); }
+  // The pair list of the last build (fixed particles: for_each_entry gives each row's pairs).
+  const NeighbourList<Dim, ExecSpace>& neighbour_list() const { return neighbourhood_.list(); }
+  // Ghost slots take their owners' values (a value per slot, owned slots
+  // sent): what a set-up pass over pairs needs beyond this process's box.
+  void update_ghost_values(const Scalars& values) { neighbourhood_.update_ghost_values(values, particles_.owned); }
   // Listed neighbours (support and skin) per owned particle, counting both ends of a half list's pairs.
   double neighbours_per_particle() const { return neighbourhood_.list().neighbours_per_particle(); }
 

@@ -20,14 +20,14 @@ struct SteadyOptions {
 // density unknowns, with outer and inner Krylov bases of outer_basis and
 // inner_basis vectors (solver/Fgmres.hpp): the outer basis, its work
 // vector, the step and right-hand side (of the bordered unknowns, one
-// more); one inner basis at a time, counted at the velocity block's size
+// more a region of the fluid on process 0); one inner basis at a time, counted at the velocity block's size
 // (the larger), and its work vector; the system's fields (its state,
 // residual and scratch, the two partial residuals of G and D alone) and
 // the preconditioner's (diag(A)^-1 and LSC's weighed scaling among them).
 // SteadySolver reports it with the bases as large as they grew, the memory
 // estimate before a run (app/SceneCheck.cpp) with their whole restart.
-inline double steady_vector_values(double outer_basis, double inner_basis, double nv, double nq) {
-  const double bordered = nv + nq + 1;
+inline double steady_vector_values(double outer_basis, double inner_basis, double nv, double nq, double borders = 1) {
+  const double bordered = nv + nq + borders;
   return (outer_basis + 3) * bordered + (inner_basis + 1) * nv + 9 * (nv + nq) + 3 * nv + 8 * nq;
 }
 

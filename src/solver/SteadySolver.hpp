@@ -7,8 +7,11 @@
 // The bordered Newton system. SPH continuity is not conservative at walls,
 // so the steady state the march reaches keeps a uniform density drift
 // lambda: the rates are zero up to d q / dt = lambda. Each Newton step
-// solves J u + e lambda = -F, e . u = 0, with e the density rows of the
-// fluid, normalised: the mean density stays where it is.
+// solves J u + E lambda = -F, E^T u = 0, with a column of E per region of
+// the fluid (solver/FluidRegions.hpp: pockets sealed by solid or by a wall
+// thinner than the kernel's reach keep their own mass and drift), each the
+// region's density rows, normalised: each region's mean density stays
+// where it is. The border unknowns are the last rows of process 0.
 //
 // The preconditioner is block upper-triangular, [[A, G], [0, S]]^-1, with
 // A the velocity block, G the pressure gradient (velocity rows, density
@@ -30,9 +33,11 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "core/Math.hpp"
 #include "solver/Fgmres.hpp"
+#include "solver/FluidRegions.hpp"
 #include "solver/LatticePreconditioner.hpp"
 #include "solver/SteadyOptions.hpp"
 #include "solver/SteadySystem.hpp"
@@ -51,6 +56,7 @@ struct SteadyReport {
   double residual = std::numeric_limits<double>::quiet_NaN();
   double setup_seconds = 0, solve_seconds = 0;
   double bytes_per_particle = 0;  // what the solver allocates, over the particles (fluid and boundary)
+  int fluid_regions = 0;          // the borders: regions of the fluid that keep their own mass
 };
 
 // Where a solve stands, for the progress line.
@@ -62,12 +68,25 @@ struct SteadyProgress {
   int inner_cap = 0;           // the inner solves' cap now (raised from Solver/Max Inner Iterations)
 };
 
+// Per region of the fluid (FluidRegions::of), the sum of q over its particles, in one pass.
+template <class Regions, class Values>
+struct RegionSums {
+  using value_type = double[];
+  unsigned value_count;
+  Regions region;
+  Values q;
+  KOKKOS_INLINE_FUNCTION void operator()(int i, value_type sums) const {
+    if (region(i) >= 0) sums[region(i)] += q(i);
+  }
+};
+
 template <int Dim, class ExecSpace>
 class SteadySolver {
  public:
   using System = SteadySystem<Dim, ExecSpace>;
   using View = typename System::View;
   using Clock = std::chrono::steady_clock;
+  using RegionSums = poresph::RegionSums<Kokkos::View<int*, typename ExecSpace::memory_space>, View>;
   // The preconditioner's products: near J is enough, at one rate evaluation each.
   static constexpr auto kForward = System::Accuracy::Forward;
   // G and D alone: a pair loop with one term, cheaper than the whole rates.
@@ -95,8 +114,13 @@ class SteadySolver {
     const auto start = Clock::now();
     System system(sim_, space_);
     const auto& ops = system.vectors();
-    const int nv = system.owned() * Dim, nq = system.owned(), n = nv + nq + 1;
-    fluid_count_ = static_cast<double>(system.fluid_particles());
+    regions_ = find_fluid_regions(sim_);
+    const int borders = regions_.count();
+    borders_here_ = sim_.communicator().rank() == 0 ? borders : 0;
+    const int nv = system.owned() * Dim, nq = system.owned(), n = nv + nq + borders_here_;
+    border_weights_ = View("steady_border_weights", borders);
+    border_weights_host_ = Kokkos::create_mirror_view(border_weights_);
+    report.fluid_regions = borders;
     inner_cap_ = options_.max_inner_iterations;
     work_residual_q_ = View("steady_residual_q_drift_free", nq);
     setup_preconditioner(system);
@@ -111,7 +135,7 @@ class SteadySolver {
     status.inner_cap = inner_cap_;
     while (residual > options_.tolerance && report.nonlinear_iterations < options_.max_nonlinear_iterations &&
            std::isfinite(residual)) {
-      // rhs = -F (the border row: 0)
+      // rhs = -F (the border rows: 0)
       ops.fill(rhs, 0.0);
       ops.update(-1.0, system.residual_v(), 0.0, part(rhs, 0, nv));
       ops.update(-1.0, system.residual_q(), 0.0, part(rhs, nv, nv + nq));
@@ -195,7 +219,7 @@ class SteadySolver {
     report.solve_seconds = seconds_since(start) - report.setup_seconds;
     // The vectors with the Krylov bases as large as they grew, the gathered
     // lattices, and the simulation's linear products (their sites and slots).
-    const double vectors = steady_vector_values(outer_basis_, inner_basis_, nv, nq);
+    const double vectors = steady_vector_values(outer_basis_, inner_basis_, nv, nq, borders_here_);
     const double lattices = wide_.values_held() + compact_.values_held() + sim_.linear_product_values();
     const double bytes = sim_.communicator().sum(8.0 * (vectors + lattices));
     const double particles = static_cast<double>(sim_.fluid_particles() + sim_.boundary_particles());
@@ -229,33 +253,54 @@ class SteadySolver {
 
   static double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-  // e . x over the fluid's density rows (e = fluid / sqrt(n)).
-  double border_dot(const System& system, const View& q) const {
-    const auto fluid = system.fluid_mask();
-    double local = 0;
+  // E^T q: per region, the sum of q over its density rows over sqrt(its size).
+  std::vector<double> border_dot(const View& q) const {
+    std::vector<double> sums(regions_.count(), 0.0);
+    if (sums.empty()) return sums;
+    const RegionSums of{static_cast<unsigned>(sums.size()), regions_.of, q};
     static const std::string label = "poresph::steady::border_dot";
-    Kokkos::parallel_reduce(
-        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, q.extent(0)),
-        KOKKOS_LAMBDA(int i, double& sum) { sum += fluid(i) * q(i); }, local);
-    return sim_.communicator().sum(local) / std::sqrt(fluid_count_);
+    Kokkos::parallel_reduce(label, Kokkos::RangePolicy<ExecSpace>(space_, 0, q.extent(0)), of, sums.data());
+    sim_.communicator().sum(sums.data(), static_cast<int>(sums.size()));
+    for (size_t r = 0; r < sums.size(); ++r) sums[r] /= std::sqrt(regions_.sizes[r]);
+    return sums;
   }
-  // q += alpha e
-  void add_border(const System& system, double alpha, const View& q) const {
-    const auto fluid = system.fluid_mask();
-    const double value = alpha / std::sqrt(fluid_count_);
+  // q += sign E alpha
+  void add_border(const std::vector<double>& alpha, const View& q, double sign = 1.0) const {
+    if (alpha.empty()) return;
+    for (size_t r = 0; r < alpha.size(); ++r) border_weights_host_(r) = sign * alpha[r] / std::sqrt(regions_.sizes[r]);
+    Kokkos::deep_copy(space_, border_weights_, border_weights_host_);
+    const auto region = regions_.of;
+    const auto weight = border_weights_;
     static const std::string label = "poresph::steady::add_border";
     Kokkos::parallel_for(
-        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, q.extent(0)), KOKKOS_LAMBDA(int i) { q(i) += value * fluid(i); });
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, q.extent(0)), KOKKOS_LAMBDA(int i) {
+          if (region(i) >= 0) q(i) += weight(region(i));
+        });
     space_.fence();
   }
-  // The border unknown lambda, held by process 0 in the last row.
-  double read_border(const View& full) const {
-    double value = 0;
-    Kokkos::deep_copy(value, Kokkos::subview(full, full.extent(0) - 1));
-    return sim_.communicator().sum(value);
+  // q -= E (E^T q): each region's mean out. Returns E^T q.
+  std::vector<double> remove_border(const View& q) const {
+    const auto removed = border_dot(q);
+    add_border(removed, q, -1.0);
+    return removed;
   }
-  void write_border(const View& full, double value) const {
-    Kokkos::deep_copy(Kokkos::subview(full, full.extent(0) - 1), sim_.communicator().rank() == 0 ? value : 0.0);
+  // The border unknowns lambda, held by process 0 in the last rows.
+  std::vector<double> read_border(const View& full) const {
+    std::vector<double> values(regions_.count(), 0.0);
+    if (borders_here_ > 0) {
+      const auto tail = Kokkos::subview(full, std::make_pair(full.extent(0) - borders_here_, full.extent(0)));
+      const auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tail);
+      for (int r = 0; r < borders_here_; ++r) values[r] = host(r);
+    }
+    if (!values.empty()) sim_.communicator().sum(values.data(), static_cast<int>(values.size()));
+    return values;
+  }
+  void write_border(const View& full, const std::vector<double>& values) const {
+    if (borders_here_ == 0) return;
+    const auto tail = Kokkos::subview(full, std::make_pair(full.extent(0) - borders_here_, full.extent(0)));
+    const auto host = Kokkos::create_mirror_view(tail);
+    for (int r = 0; r < borders_here_; ++r) host(r) = values[r];
+    Kokkos::deep_copy(tail, host);
   }
 
   // ||F - e (e . F)|| over the same at rest (v = 0, rho = rho0): the drift removed.
@@ -268,7 +313,7 @@ class SteadySolver {
     const auto& ops = system.vectors();
     const View q = work_residual_q_;
     ops.copy(system.residual_q(), q);
-    add_border(system, -border_dot(system, q), q);
+    remove_border(q);
     return std::sqrt(ops.dot(system.residual_v(), system.residual_v()) + ops.dot(q, q));
   }
 
@@ -324,8 +369,8 @@ class SteadySolver {
     const View out_v(Kokkos::subview(out, std::make_pair(0, nv))),
         out_q(Kokkos::subview(out, std::make_pair(nv, nv + nq)));
     system.apply(&in_v, &in_q, out_v, out_q);
-    add_border(system, read_border(in), out_q);
-    write_border(out, border_dot(system, in_q));
+    add_border(read_border(in), out_q);
+    write_border(out, border_dot(in_q));
   }
 
   void setup_preconditioner(System& system) {
@@ -586,7 +631,7 @@ class SteadySolver {
     ++dg_solves_;
     if (!result.converged && result.iterations >= inner_cap_) ++capped_dg_solves_;
     inner_basis_ = std::max(inner_basis_, result.basis_vectors);
-    add_border(system, -border_dot(system, p), p);  // p - e (e . p): the fluid mean out
+    remove_border(p);  // p - E (E^T p): each region's mean out
   }
 
   // v ~ A^-1 r: GMRES with the compact lattice Laplacian to the inner tolerance.
@@ -608,17 +653,16 @@ class SteadySolver {
     const View in_v(Kokkos::subview(in, std::make_pair(0, nv))), in_q(Kokkos::subview(in, std::make_pair(nv, nv + nq)));
     const View out_v(Kokkos::subview(out, std::make_pair(0, nv))),
         out_q(Kokkos::subview(out, std::make_pair(nv, nv + nq)));
-    // The uniform part of the density residual is the drift's.
-    const double drift = border_dot(system, in_q);
+    // The uniform part of each region's density residual is its drift's.
     ops.copy(in_q, work_q_);
-    add_border(system, -drift, work_q_);
+    const auto drift = remove_border(work_q_);
     // p = -(DG)^-1 (DAG) (DG)^-1 r_q
     solve_dg(system, work_q_, work_q2_);
     apply_dag(system, work_q2_, work_q_);
     solve_dg(system, work_q_, out_q);
     ops.update(0.0, out_q, -1.0, out_q);
-    // The mean density change is the border row's.
-    add_border(system, read_border(in), out_q);
+    // Each region's mean density change is its border row's.
+    add_border(read_border(in), out_q);
     // v = A^-1 (r_v - G p)
     system.apply(nullptr, &out_q, work_v2_, work_q3_, kForward, kGradient);
     ops.copy(in_v, work_v3_);
@@ -633,7 +677,10 @@ class SteadySolver {
   SteadyOptions options_;
   std::function<bool()> should_stop_;
   std::function<void(const SteadyProgress&)> progress_;
-  double fluid_count_ = 1;
+  FluidRegions<typename ExecSpace::memory_space> regions_;
+  int borders_here_ = 0;  // border rows on this process: all on process 0
+  View border_weights_;   // add_border's, per region
+  typename View::HostMirror border_weights_host_;
   double dg_shift_ = 0;
   LatticePreconditioner<Dim, ExecSpace> wide_, compact_;
   double wide_scale_ = 0, compact_scale_ = 0;
