@@ -596,6 +596,9 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
       fail("Solver/Method = steady solves for the steady state of fixed particles; Discretization/Particle "
            "Motion = lagrangian particles move, so their flow has no steady state to solve for: march it with "
            "Solver/Method = explicit");
+    if (!(scene.kinematic_viscosity > 0))
+      fail("Solver/Method = steady needs Fluid/Kinematic Viscosity > 0: without viscosity nothing balances the "
+           "driving force, so the flow has no steady state to solve for");
     if (scene.has_solid() || scene.walls != WallType::None)
       if (scene.wall_pressure != WallPressure::Extrapolated)
         fail("Solver/Method = steady needs Discretization/Wall Pressure = extrapolated: with 'continuity' the "

@@ -151,6 +151,10 @@ check(done.returncode == 0 and channel["solver"]["converged"] and "profile_error
 done, refused, out = run("steady-lagrangian", ["Solver/Method=steady", "Discretization/Particle Motion=lagrangian"])
 check(done.returncode == 2 and "Solver/Method = steady" in done.stderr and not os.path.exists(out),
       "lagrangian particles refused, nothing written")
+# Nor has an inviscid driven flow.
+done, refused, out = run("steady-inviscid", ["Solver/Method=steady", "Fluid/Kinematic Viscosity=0"])
+check(done.returncode == 2 and "Fluid/Kinematic Viscosity > 0" in done.stderr and not os.path.exists(out),
+      "no viscosity refused, nothing written")
 
 print("steady solver ok" if failures == 0 else f"{failures} checks failed")
 sys.exit(1 if failures else 0)
