@@ -19,9 +19,10 @@ struct SteadyOptions {
 // The doubles the steady solver's vectors take for nv velocity and nq
 // density unknowns, with outer and inner Krylov bases of outer_basis and
 // inner_basis vectors (solver/Fgmres.hpp): the outer basis, its work
-// vector, the step and right-hand side (of the bordered unknowns, one
-// more a region of the fluid on process 0); one inner basis at a time, counted at the velocity block's size
-// (the larger), and its work vector; the system's fields (its state,
+// vector, the step and right-hand side (of the bordered unknowns: one
+// more per region of the fluid on process 0, `borders`); one inner basis
+// at a time, counted at the velocity block's size (the larger), and its
+// work vector; the system's fields (its state,
 // residual and scratch, the two partial residuals of G and D alone) and
 // the preconditioner's (diag(A)^-1 and LSC's weighed scaling among them).
 // SteadySolver reports it with the bases as large as they grew, the memory

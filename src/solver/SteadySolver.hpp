@@ -303,11 +303,11 @@ class SteadySolver {
     Kokkos::deep_copy(tail, host);
   }
 
-  // ||F - e (e . F)|| over the same at rest (v = 0, rho = rho0): the drift removed.
+  // ||F - E (E^T F)|| over the same at rest (v = 0, rho = rho0): the drifts removed.
   double relative_residual(const System& system, double reference) const {
     return drift_free_norm(system) / reference;
   }
-  // ||F - e (e . F)||, the drift taken out before squaring: a drift far
+  // ||F - E (E^T F)||, the drifts taken out before squaring: a drift far
   // larger than what is left would otherwise cancel it in |F|^2 - drift^2.
   double drift_free_norm(const System& system) const {
     const auto& ops = system.vectors();
