@@ -420,6 +420,29 @@ TYPED_TEST(SteadySolverTest, PatternWeightsScaleTheSmoothPartOfEachPattern) {
   }
 }
 
+// The steady solve to a relative residual of kTightTolerance.
+constexpr double kTightTolerance = 1e-7;
+template <class Space>
+SteadyReport solve_tightly(Simulation<2, Space>& sim) {
+  SteadyOptions options;
+  options.tolerance = kTightTolerance;
+  SteadySolver<2, Space> solver(sim, Space(), options, nullptr, nullptr);
+  return solver.solve();
+}
+
+// k along x of the scene marched until it changes by less than 1e-8 over 200 steps.
+template <class Space>
+double marched_permeability(const SceneConfig& scene) {
+  Simulation<2, Space> marched(scene);
+  double k = 0, previous = -1;
+  while (std::abs(k - previous) > 1e-8 * std::abs(k)) {
+    previous = k;
+    for (int s = 0; s < 200; ++s) marched.step();
+    k = scene.kinematic_viscosity * marched.superficial_velocity()[0] / scene.body_force[0];
+  }
+  return k;
+}
+
 // The steady solve of the disc cell is the time loop's steady state: k to
 // 1e-5 of the march's (marched until k changes by less than 1e-8 over 200
 // steps), with and without convection; the solve's residual is below its
@@ -428,20 +451,11 @@ TYPED_TEST(SteadySolverTest, SolvesToTheMarchedState) {
   using Space = TypeParam;
   for (bool convection : {false, true}) {
     const SceneConfig scene = disc_cell(convection);
-    Simulation<2, Space> marched(scene);
-    double k_marched = 0, previous = -1;
-    while (std::abs(k_marched - previous) > 1e-8 * std::abs(k_marched)) {
-      previous = k_marched;
-      for (int s = 0; s < 200; ++s) marched.step();
-      k_marched = scene.kinematic_viscosity * marched.superficial_velocity()[0] / scene.body_force[0];
-    }
+    const double k_marched = marched_permeability<Space>(scene);
     Simulation<2, Space> solved(scene);
-    SteadyOptions options;
-    options.tolerance = 1e-7;
-    SteadySolver<2, Space> solver(solved, Space(), options, nullptr, nullptr);
-    const auto report = solver.solve();
+    const auto report = solve_tightly(solved);
     EXPECT_TRUE(report.converged);
-    EXPECT_LE(report.residual, options.tolerance);
+    EXPECT_LE(report.residual, kTightTolerance);
     EXPECT_GE(report.nonlinear_iterations, 1);
     EXPECT_GT(report.linear_iterations, 0);
     const double k_solved = scene.kinematic_viscosity * solved.superficial_velocity()[0] / scene.body_force[0];
@@ -507,24 +521,13 @@ TYPED_TEST(SteadySolverTest, FluidRegionsAreThePoresJoinedByLatticeNeighbours) {
 TYPED_TEST(SteadySolverTest, SealedPocketKeepsItsMassAndTheMarchsK) {
   using Space = TypeParam;
   const SceneConfig scene = testing::pocket_cell(false);
-  auto k_of = [&](const Simulation<2, Space>& sim) {
-    return scene.kinematic_viscosity * sim.superficial_velocity()[0] / scene.body_force[0];
-  };
-  Simulation<2, Space> marched(scene);
-  double k_marched = 0, previous = -1;
-  while (std::abs(k_marched - previous) > 1e-8 * std::abs(k_marched)) {
-    previous = k_marched;
-    for (int s = 0; s < 200; ++s) marched.step();
-    k_marched = k_of(marched);
-  }
+  const double k_marched = marched_permeability<Space>(scene);
   Simulation<2, Space> solved(scene);
-  SteadyOptions options;
-  options.tolerance = 1e-7;
-  SteadySolver<2, Space> solver(solved, Space(), options, nullptr, nullptr);
-  const auto report = solver.solve();
+  const auto report = solve_tightly(solved);
   EXPECT_TRUE(report.converged);
   EXPECT_EQ(report.fluid_regions, 2);
-  EXPECT_NEAR(k_of(solved) / k_marched, 1.0, 1e-5) << "solved " << k_of(solved) << ", marched " << k_marched;
+  const double k_solved = scene.kinematic_viscosity * solved.superficial_velocity()[0] / scene.body_force[0];
+  EXPECT_NEAR(k_solved / k_marched, 1.0, 1e-5) << "solved " << k_solved << ", marched " << k_marched;
   // Each region's mass, against the start's (rho0 a particle).
   const auto regions = find_fluid_regions(solved);
   const auto of = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), regions.of);
