@@ -645,7 +645,7 @@ class SteadySolver {
     ++dg_solves_;
     if (!result.converged && result.iterations >= inner_cap_) ++capped_dg_solves_;
     inner_basis_ = std::max(inner_basis_, result.basis_vectors);
-    remove_border(p);  // p - E (E^T p): each region's mean out
+    // p, a sum of preconditioned vectors, has zero region means already.
   }
 
   // v ~ A^-1 r: GMRES with the compact lattice Laplacian to the inner tolerance.
