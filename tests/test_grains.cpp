@@ -218,6 +218,40 @@ TEST(Grains, PenetratingFluidIsPutBackOnTheSurface) {
   EXPECT_EQ(fluid_in_grains(Kokkos::DefaultHostExecutionSpace(), P, map, false, 0.0).particles, 0);
 }
 
+// A channel's walls are solid too: a fluid particle carried past y = 0 or
+// y = L_y goes back to the wall and keeps only its velocity along it; one in
+// the channel is untouched, however close to a wall.
+TEST(Grains, FluidPastAChannelWallIsPutBackOnTheWall) {
+  auto scene = unit_cell();
+  scene.cell_size = {1.0, 0.5, 0};
+  scene.periodic = {1, 0, 0};
+  scene.walls = WallType::Channel;
+  const auto map = make_solid_map<2, Kokkos::HostSpace>(scene, 0.1);
+  ASSERT_FALSE(map.empty());
+  Particles<2, Kokkos::HostSpace> P;
+  P.reserve(3);
+  P.owned = 3;
+  const double points[3][2] = {{0.3, 0.503}, {0.7, -0.002}, {0.5, 0.4999}};  // above, below, in the channel
+  for (int i = 0; i < 3; ++i) {
+    P.kind(i) = kFluid;
+    P.x(i, 0) = points[i][0], P.x(i, 1) = points[i][1];
+    P.v(i, 0) = 0.25, P.v(i, 1) = i == 1 ? -2.0 : 2.0;  // each moving into its wall
+  }
+  const auto found = fluid_in_grains(Kokkos::DefaultHostExecutionSpace(), P, map, true, 1e-9);
+  EXPECT_EQ(found.particles, 2);
+  EXPECT_NEAR(found.max_depth, 0.003, 1e-15);
+  EXPECT_NEAR(P.x(0, 1), 0.5 - 1e-9, 1e-15);
+  EXPECT_NEAR(P.x(1, 1), 1e-9, 1e-15);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(P.x(i, 0), points[i][0]);
+    EXPECT_EQ(P.v(i, 0), 0.25);  // along the wall: kept
+    EXPECT_EQ(P.v(i, 1), 0.0);   // into it: removed
+  }
+  EXPECT_EQ(P.x(2, 1), 0.4999);
+  EXPECT_EQ(P.v(2, 1), 2.0);
+  EXPECT_EQ(fluid_in_grains(Kokkos::DefaultHostExecutionSpace(), P, map, false, 0.0).particles, 0);
+}
+
 // Throats: refused below one spacing, a warning below three, silent above;
 // closed (touching) throats and throats with a grain's own image count too.
 TEST(Grains, ThroatCheckRefusesAndWarnsExactlyWhenItShould) {

@@ -68,6 +68,48 @@ TEST(RigidGrains, FluidAndGrainsConserveMomentum) {
               after[1] - before[1], scale, grain_momentum);
 }
 
+// Moving fluid cannot leave through a channel's wall: a particle carried
+// past the top wall into the wall's layers is put back on the wall at the
+// step's end, without its velocity into the wall, and the correction counts.
+TEST(RigidGrains, MovingFluidPastAChannelWallIsPutBack) {
+  SceneConfig scene = testing::channel(10);
+  scene.particle_motion = ParticleMotion::Lagrangian;
+  scene.velocity_scale = 1e-4;
+  Simulation<2, Space> sim(scene);
+  const double H = scene.cell_size[1], dx = scene.particle_spacing;
+  auto& P = sim.particles();
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.x);
+  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.v);
+  auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
+  auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.id);
+  int top = -1;
+  for (int i = 0; i < P.owned; ++i)
+    if (kind(i) == kFluid && (top < 0 || x(i, 1) > x(top, 1))) top = i;
+  ASSERT_GE(top, 0);
+  const long long carried = id(top);
+  x(top, 1) = H + 0.3 * dx;  // among the wall's first layer
+  v(top, 0) = 1e-5, v(top, 1) = 1e-4;
+  Kokkos::deep_copy(P.x, x);
+  Kokkos::deep_copy(P.v, v);
+  sim.compute_rates();
+  sim.step();
+  EXPECT_EQ(sim.fluid_inside_grains().particles, 0);
+  EXPECT_GE(sim.grain_surface_corrections().particles, 1);
+  EXPECT_NEAR(sim.grain_surface_corrections().max_depth, 0.3 * dx, 0.05 * dx);  // where it was, give or take a step's motion
+  Kokkos::deep_copy(x, P.x);
+  Kokkos::deep_copy(v, P.v);
+  Kokkos::deep_copy(id, P.id);
+  int found = 0;
+  for (int i = 0; i < P.owned; ++i)
+    if (id(i) == carried) {
+      ++found;
+      EXPECT_LT(x(i, 1), H);
+      EXPECT_GT(x(i, 1), H - 1e-3 * dx);  // on the wall, not pushed deep into the fluid
+      EXPECT_LE(v(i, 1), 0.0);            // nothing left of its velocity into the wall
+    }
+  EXPECT_EQ(found, 1);
+}
+
 // A grain turning with the fluid around it, as one rigid body, feels no
 // torque. The pair sums' moment alone is the traction of mu grad v, which
 // holds the turning grain by +2 mu V omega (physics/RigidGrains.hpp,

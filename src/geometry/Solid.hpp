@@ -181,21 +181,32 @@ std::vector<SolidMark<Dim>> mark_solid(const SceneConfig& scene, const LatticeBl
   return marks;
 }
 
-// The solid in kernels: the grains near a point, or the image's distance.
+// The solid in kernels: the grains near a point, the image's distance, or a
+// channel's walls (the solid below y = 0 and above y = channel_height).
 template <int Dim, class MemorySpace>
 struct SolidMap {
   GrainMap<Dim, MemorySpace> grains;
   DistanceField<Dim, MemorySpace> image;
-  bool has_grains = false, has_image = false;
+  bool has_grains = false, has_image = false, has_channel = false;
+  double channel_height = 0;
 
-  bool empty() const { return !has_grains && !has_image; }
+  bool empty() const { return !has_grains && !has_image && !has_channel; }
 
-  // The solid x lies deepest inside (a grain's index; 0 for the image; -1
-  // if none), the depth below its surface, and the unit normal there,
-  // pointing out of the solid.
+  // The solid x lies deepest inside (a grain's index; 0 for the image or a
+  // channel wall; -1 if none), the depth below its surface, and the unit
+  // normal there, pointing out of the solid.
   KOKKOS_INLINE_FUNCTION int deepest(const double* x, double& depth, double* normal) const {
     int deepest = -1;
     depth = 0;
+    if (has_channel) {
+      const double below = -x[1], above = x[1] - channel_height;
+      if (below > 0 || above > 0) {
+        deepest = 0;
+        depth = below > 0 ? below : above;
+        for (int d = 0; d < Dim; ++d) normal[d] = 0.0;
+        normal[1] = below > 0 ? 1.0 : -1.0;
+      }
+    }
     if (has_grains)
       grains.for_each_grain_near(x, [&](int g) {
         double r[Dim], dist_sq = 0;
@@ -226,6 +237,8 @@ SolidMap<Dim, MemorySpace> make_solid_map(const SceneConfig& scene, double grain
   SolidMap<Dim, MemorySpace> map;
   map.has_grains = !scene.grains.empty();
   if (map.has_grains) map.grains = make_grain_map<Dim, MemorySpace>(scene, grain_grid_width);
+  map.has_channel = scene.walls == WallType::Channel;
+  map.channel_height = scene.cell_size[1];
   map.has_image = static_cast<bool>(scene.image.voxels);
   if (map.has_image)
     map.image = device_distance_field<Dim, MemorySpace>(*scene.image.distance, scene.image.voxels->shape,

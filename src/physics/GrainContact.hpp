@@ -1,10 +1,12 @@
 #pragma once
-// Grains are impermeable. The boundary particles' pressure keeps fluid out,
-// but a stagnant fluid particle that starts on a grain surface (a lattice
-// point a hair outside it) feels almost no push and can drift a fraction of a
-// per cent of dx inside. After each step such a particle is put back on the
-// surface and loses its velocity into the grain; the count and the depth are
-// reported, so the correction is visible, not hidden.
+// The solid is impermeable: grains, an image's solid and a channel's walls.
+// The boundary particles' pressure keeps fluid out, but a stagnant fluid
+// particle that starts on a grain surface (a lattice point a hair outside it)
+// feels almost no push and can drift a fraction of a per cent of dx inside,
+// and a moving one can be carried through the wall's layers where the fluid
+// next to the wall rarefies. After each step such a particle is put back on
+// the surface and loses its velocity into the solid; the count and the depth
+// are reported, so the correction is visible, not hidden.
 #include <Kokkos_Core.hpp>
 
 #include "core/Math.hpp"
