@@ -277,35 +277,47 @@ class LatticeMultigrid {
     restrict_residual(l);
   }
   // Level l's residual restricted to level l + 1's right-hand side (the
-  // aggregate's sum of residuals), the coarse x set to 0.
+  // aggregate's sum of residuals), the coarse x set to 0. By coarse lines
+  // along x: the fine lines of a line's aggregates are found once, not each
+  // point's by integer division (a fifth of a cycle's time when they were).
   void restrict_residual(size_t l) const {
     const Level& level = levels_[l];
     apply_level(level, level.x, level.r);
     const Level& coarse = levels_[l + 1];
     const auto r = level.r, b = level.b, diag = level.diag;
-    const auto cb = coarse.b, cx = coarse.x;
+    const auto cb = coarse.b;
     const auto fine_shape = level.shape, coarse_shape = coarse.shape;
-    Kokkos::deep_copy(space_, cb, 0.0);
-    Kokkos::deep_copy(space_, cx, 0.0);
+    Kokkos::deep_copy(space_, coarse.x, 0.0);
     space_.fence();
-    // Serial in the aggregate (several fine points add to one coarse one).
+    constexpr int kUpper = 1 << (Dim - 1);  // an aggregate's fine lines: a bit per axis past x
     static const std::string label_restrict = "poresph::multigrid::restrict";
     Kokkos::parallel_for(
-        label_restrict, Kokkos::RangePolicy<ExecSpace>(space_, 0, coarse.size), KOKKOS_LAMBDA(long long I) {
-          double sum = 0;
-          for (int corner = 0; corner < (1 << Dim); ++corner) {
-            long long i = 0, stride = 1, rest = I;
+        label_restrict, Kokkos::RangePolicy<ExecSpace>(space_, 0, coarse.size / coarse_shape[0]),
+        KOKKOS_LAMBDA(long long line) {
+          long long fine_line[kUpper];
+          bool line_inside[kUpper];
+          for (int upper = 0; upper < kUpper; ++upper) {
+            long long rest = line, first = 0, stride = fine_shape[0];
             bool inside = true;
-            for (int d = 0; d < Dim; ++d) {
-              const int c = 2 * static_cast<int>(rest % coarse_shape[d]) + ((corner >> d) & 1);
+            for (int d = 1; d < Dim; ++d) {
+              const int c = 2 * static_cast<int>(rest % coarse_shape[d]) + ((upper >> (d - 1)) & 1);
               rest /= coarse_shape[d];
               inside = inside && c < fine_shape[d];
-              i += c * stride;
+              first += c * stride;
               stride *= fine_shape[d];
             }
-            if (inside && diag(i) != 0) sum += b(i) - r(i);
+            fine_line[upper] = first, line_inside[upper] = inside;
           }
-          cb(I) = sum;
+          for (int c0 = 0; c0 < coarse_shape[0]; ++c0) {
+            double sum = 0;
+            for (int corner = 0; corner < (1 << Dim); ++corner) {  // bit d: the corner's step along axis d
+              const int c = 2 * c0 + (corner & 1);
+              if (!line_inside[corner >> 1] || c >= fine_shape[0]) continue;
+              const long long i = fine_line[corner >> 1] + c;
+              if (diag(i) != 0) sum += b(i) - r(i);
+            }
+            cb(line * coarse_shape[0] + c0) = sum;
+          }
         });
     space_.fence();
   }
@@ -316,7 +328,8 @@ class LatticeMultigrid {
     smooth(levels_[l], false);
     smooth(levels_[l], false);
   }
-  // Level l + 1's x times weight added to level l's (piecewise constant).
+  // Level l + 1's x times weight added to level l's (piecewise constant), by
+  // fine lines along x.
   void prolong(size_t l, double weight) const {
     const Level& level = levels_[l];
     const Level& coarse = levels_[l + 1];
@@ -324,15 +337,17 @@ class LatticeMultigrid {
     const auto fine_shape = level.shape, coarse_shape = coarse.shape;
     static const std::string label_prolong = "poresph::multigrid::prolong";
     Kokkos::parallel_for(
-        label_prolong, Kokkos::RangePolicy<ExecSpace>(space_, 0, level.size), KOKKOS_LAMBDA(long long i) {
-          if (diag(i) == 0) return;
-          long long I = 0, stride = 1, rest = i;
-          for (int d = 0; d < Dim; ++d) {
-            I += (static_cast<int>(rest % fine_shape[d]) / 2) * stride;
+        label_prolong, Kokkos::RangePolicy<ExecSpace>(space_, 0, level.size / fine_shape[0]),
+        KOKKOS_LAMBDA(long long line) {
+          long long rest = line, coarse_line = 0, stride = 1;
+          for (int d = 1; d < Dim; ++d) {
+            coarse_line += (rest % fine_shape[d]) / 2 * stride;
             rest /= fine_shape[d];
             stride *= coarse_shape[d];
           }
-          x(i) += weight * cx(I);
+          const long long first = line * fine_shape[0], coarse_first = coarse_line * coarse_shape[0];
+          for (int c = 0; c < fine_shape[0]; ++c)
+            if (diag(first + c) != 0) x(first + c) += weight * cx(coarse_first + c / 2);
         });
     space_.fence();
   }

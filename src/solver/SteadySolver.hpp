@@ -257,9 +257,16 @@ class SteadySolver {
   std::vector<double> border_dot(const View& q) const {
     std::vector<double> sums(regions_.count(), 0.0);
     if (sums.empty()) return sums;
-    const RegionSums of{static_cast<unsigned>(sums.size()), regions_.of, q};
     static const std::string label = "poresph::steady::border_dot";
-    Kokkos::parallel_reduce(label, Kokkos::RangePolicy<ExecSpace>(space_, 0, q.extent(0)), of, sums.data());
+    if (sums.size() == 1) {  // one region, the usual case: a scalar sum, cheaper than an array's
+      const auto region = regions_.of;
+      Kokkos::parallel_reduce(
+          label, Kokkos::RangePolicy<ExecSpace>(space_, 0, q.extent(0)),
+          KOKKOS_LAMBDA(int i, double& sum) { sum += region(i) >= 0 ? q(i) : 0.0; }, sums[0]);
+    } else {
+      const RegionSums of{static_cast<unsigned>(sums.size()), regions_.of, q};
+      Kokkos::parallel_reduce(label, Kokkos::RangePolicy<ExecSpace>(space_, 0, q.extent(0)), of, sums.data());
+    }
     sim_.communicator().sum(sums.data(), static_cast<int>(sums.size()));
     for (size_t r = 0; r < sums.size(); ++r) sums[r] /= std::sqrt(regions_.sizes[r]);
     return sums;
