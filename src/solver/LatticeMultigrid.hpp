@@ -44,6 +44,7 @@ class LatticeMultigrid {
     }
     Kokkos::deep_copy(fine.diag, diag);
     Kokkos::deep_copy(fine.up, up);
+    fine.unit_couplings = true;
     levels_.push_back(fine);
     while (levels_.back().size > kCoarsest) {
       bool coarser = false;
@@ -97,6 +98,10 @@ class LatticeMultigrid {
     long long size = 0;
     View diag, x, b, r;
     Couplings up;  // to the +e_d neighbour; the -e_d coupling is the neighbour's up
+    // The finest level's couplings are 1 between two unknowns and 0 else,
+    // and x is 0 off the unknowns (no sweep or correction writes there): so
+    // a coupling times x is x, and the loops there need not load the couplings.
+    bool unit_couplings = false;
   };
 
   Level make_level(const std::array<int, Dim>& shape) const {
@@ -190,16 +195,32 @@ class LatticeMultigrid {
     }
     return l;
   }
-  // (L x)_i, or the Gauss-Seidel update b_i + sum of couplings x_j, at point c of a line.
+  // (L x)_i, or the Gauss-Seidel update b_i + sum of couplings x_j, at point
+  // c of a line; with Unit (Level::unit_couplings) the same sum, term for
+  // term, without loading the couplings.
+  template <bool Unit>
   KOKKOS_INLINE_FUNCTION static double couplings(const Couplings& up, const View& x, const Line& l, int c, int n) {
     const long long i = l.first + c;
     const long long left = c == 0 ? i + n - 1 : i - 1, right = c + 1 == n ? i - (n - 1) : i + 1;
-    double sum = up(i, 0) * x(right) + up(left, 0) * x(left);
-    for (int d = 1; d < Dim; ++d) sum += up(i, d) * x(i + l.above[d]) + up(i + l.below[d], d) * x(i + l.below[d]);
-    return sum;
+    if constexpr (Unit) {
+      double sum = x(right) + x(left);
+      for (int d = 1; d < Dim; ++d) sum += x(i + l.above[d]) + x(i + l.below[d]);
+      return sum;
+    } else {
+      double sum = up(i, 0) * x(right) + up(left, 0) * x(left);
+      for (int d = 1; d < Dim; ++d) sum += up(i, d) * x(i + l.above[d]) + up(i + l.below[d], d) * x(i + l.below[d]);
+      return sum;
+    }
   }
 
   void apply_level(const Level& level, const View& x, const View& y) const {
+    if (level.unit_couplings)
+      apply_level_with<true>(level, x, y);
+    else
+      apply_level_with<false>(level, x, y);
+  }
+  template <bool Unit>
+  void apply_level_with(const Level& level, const View& x, const View& y) const {
     const auto diag = level.diag;
     const auto up = level.up;
     const auto shape = level.shape;
@@ -210,7 +231,7 @@ class LatticeMultigrid {
           const Line l = line_of(shape, line);
           for (int c = 0; c < shape[0]; ++c) {
             const long long i = l.first + c;
-            y(i) = diag(i) == 0 ? 0.0 : diag(i) * x(i) - couplings(up, x, l, c, shape[0]);
+            y(i) = diag(i) == 0 ? 0.0 : diag(i) * x(i) - couplings<Unit>(up, x, l, c, shape[0]);
           }
         });
     space_.fence();
@@ -220,6 +241,13 @@ class LatticeMultigrid {
   // sum: independent points of a 2 Dim + 1 stencil on an even lattice), in
   // colour order 0, 1 or 1, 0.
   void smooth(const Level& level, bool forward) const {
+    if (level.unit_couplings)
+      smooth_with<true>(level, forward);
+    else
+      smooth_with<false>(level, forward);
+  }
+  template <bool Unit>
+  void smooth_with(const Level& level, bool forward) const {
     const auto diag = level.diag;
     const auto up = level.up;
     const auto shape = level.shape;
@@ -233,7 +261,7 @@ class LatticeMultigrid {
             const Line l = line_of(shape, line);
             for (int c = (colour + l.parity) % 2; c < shape[0]; c += 2) {
               const long long i = l.first + c;
-              if (diag(i) != 0) x(i) = (b(i) + couplings(up, x, l, c, shape[0])) / diag(i);
+              if (diag(i) != 0) x(i) = (b(i) + couplings<Unit>(up, x, l, c, shape[0])) / diag(i);
             }
           });
       space_.fence();
