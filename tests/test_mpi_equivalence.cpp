@@ -6,10 +6,13 @@
 
 #include <cmath>
 #include <map>
+#include <sstream>
+#include <string>
 
 #include "Scenes.hpp"
 #include "app/Simulation.hpp"
 #include "diagnostics/SurfaceLoads.hpp"
+#include "geometry/Grains.hpp"
 #include "solver/FluidRegions.hpp"
 #include "solver/SteadySolver.hpp"
 
@@ -189,6 +192,53 @@ TEST(MpiEquivalence, GrainAcrossThePeriodicCorner) {
   scene.body_force = {0.02, 0.01, 0};
   scene.shifting_coefficient = 2.0;
   expect_same_on_any_number_of_ranks(scene, 0.0);
+}
+
+// The wide lattice preconditioner (solver/LatticePreconditioner.hpp) shares
+// its sub-lattices' cycles out among the processes and gathers the pattern
+// weights' coarse corrections and the results: applied to the same vector,
+// each particle's value is the one rank's, to round-off.
+std::map<long long, double> preconditioned(const SceneConfig& scene, const Communicator& comm) {
+  Simulation<2, Kokkos::Serial> sim(scene, Kokkos::Serial(), comm);
+  const auto& P = sim.particles();
+  const int owned = P.owned;
+  using View = Kokkos::View<double*, Kokkos::HostSpace>;
+  View fluid("fluid", owned), r("r", owned), z("z", owned);
+  for (int i = 0; i < owned; ++i) {
+    fluid(i) = P.kind(i) == kFluid ? 1.0 : 0.0;
+    r(i) = fluid(i) * (std::sin(7.0 * P.x(i, 0)) + std::cos(3.0 * P.x(i, 1)) + 1e-3 * static_cast<double>(P.id(i) % 17));
+  }
+  const double dx = scene.particle_spacing;
+  const std::array<int, 2> lattice{static_cast<int>(std::lround(scene.cell_size[0] / dx)),
+                                   static_cast<int>(std::lround(scene.cell_size[1] / dx))};
+  LatticePreconditioner<2, Kokkos::Serial> wide(Kokkos::Serial(), comm, P.x, fluid, owned, lattice, dx, 2);
+  wide.set_pattern_weights({1.0, 0.8, 0.6, 0.4});
+  wide.apply(r, z);
+  std::string rows;
+  char row[64];
+  for (int i = 0; i < owned; ++i)
+    if (fluid(i) > 0) rows += (std::snprintf(row, sizeof row, "%lld %.17g\n", P.id(i), z(i)), row);
+  std::map<long long, double> result;
+  std::istringstream in(comm.gather_text(rows));
+  long long key;
+  double value;
+  while (in >> key >> value) result[key] = value;
+  return result;
+}
+
+TEST(MpiEquivalence, WideLatticePreconditionerSharedOutAmongTheProcesses) {
+  SceneConfig scene = testing::periodic_box(2, 40);
+  scene.grains = grains_from_list({0.5, 0.5, 0.2}, 2);
+  const Communicator world;
+  const auto distributed = preconditioned(scene, world);
+  if (world.rank() != 0) return;
+  const auto single = preconditioned(scene, Communicator(MPI_COMM_SELF));
+  ASSERT_EQ(distributed.size(), single.size());
+  double largest = 0, worst = 0;
+  for (const auto& [id, value] : single) largest = std::max(largest, std::abs(value));
+  for (const auto& [id, value] : single) worst = std::max(worst, std::abs(distributed.at(id) - value));
+  EXPECT_GT(largest, 0.0);
+  EXPECT_LT(worst, 1e-13 * largest) << world.size() << " processes";
 }
 
 }  // namespace

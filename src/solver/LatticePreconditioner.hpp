@@ -7,11 +7,15 @@
 // corners of the Brillouin zone (docs/steady_solver.md).
 //
 // Every process holds the whole lattice: the right-hand side is gathered
-// (MPI_Allgatherv), each process runs the same cycles, and keeps the values
-// of its own particles. Set-up and memory are those of the whole lattice on
-// each process: enough for a few processes, not for many.
+// (MPI_Allgatherv), and the sub-lattices' cycles are shared out, sub-lattice
+// l to process l mod the processes; the pattern weights' coarse corrections
+// and the cycles' results are gathered again, and each process keeps the
+// values of its own particles. The arithmetic is the same on any number of
+// processes. Set-up and memory are those of the whole lattice on each
+// process: enough for a few processes, not for many.
 #include <Kokkos_Core.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -95,6 +99,19 @@ class LatticePreconditioner {
       b_.push_back(View("lattice_b", points));
       z_.push_back(View("lattice_z", points));
     }
+    // The sub-lattices in gathered order: by owner, then by index.
+    const int processes = comm_.size();
+    slot_.resize(lattices);
+    int slot = 0;
+    std::vector<int> owned_lattices(processes, 0);
+    for (int r = 0; r < processes; ++r)
+      for (int l = r; l < lattices; l += processes) slot_[l] = slot++, ++owned_lattices[r];
+    const long long coarse_points = multigrid_.front().coarse_correction().extent(0);
+    for (int r = 0; r < processes; ++r) {
+      z_counts_.push_back(static_cast<int>(owned_lattices[r] * points));
+      coarse_counts_.push_back(static_cast<int>(owned_lattices[r] * coarse_points));
+    }
+    points_ = points, coarse_points_ = coarse_points;
     gathered_ = std::vector<double>(total);
     offset_ = 0;
     for (int r = 0; r < comm_.rank(); ++r) offset_ += counts_[r];
@@ -121,12 +138,12 @@ class LatticePreconditioner {
   void set_pattern_weights(const std::vector<double>& weights) { pattern_weights_ = weights; }
   // What this process holds for it, in doubles (for the memory report): per
   // gathered value the value, its sub-lattice and point; per lattice point
-  // b and z, and the multigrid's diagonal, couplings, x, b and r on every
-  // level (a 2^-Dim geometric series).
+  // b, z and the gathered z, and the multigrid's diagonal, couplings, x, b
+  // and r on every level (a 2^-Dim geometric series).
   double values_held() const {
     double values = 2.5 * static_cast<double>(gathered_.size()) + static_cast<double>(own_.size());
     const double levels = (1 << Dim) / ((1 << Dim) - 1.0);
-    for (const auto& b : b_) values += (2.0 + (4.0 + Dim) * levels) * static_cast<double>(b.extent(0));
+    for (const auto& b : b_) values += (3.0 + (4.0 + Dim) * levels) * static_cast<double>(b.extent(0));
     return values;
   }
 
@@ -137,35 +154,67 @@ class LatticePreconditioner {
     mine.resize(own_.size());
     for (size_t k = 0; k < own_.size(); ++k) mine[k] = hr(own_[k]);
     comm_.all_gather(mine.data(), counts_, gathered_.data());
-    std::vector<decltype(Kokkos::create_mirror_view(b_[0]))> hb;
-    for (const auto& b : b_) {
-      hb.push_back(Kokkos::create_mirror_view(b));
-      Kokkos::deep_copy(hb.back(), 0.0);
-    }
-    for (size_t k = 0; k < gathered_.size(); ++k) hb[sub_[k]](local_[k]) = gathered_[k];
-    for (size_t l = 0; l < b_.size(); ++l) {
-      Kokkos::deep_copy(b_[l], hb[l]);
-      multigrid_[l].cycle_down(b_[l]);
-    }
-    if (!pattern_weights_.empty() && multigrid_.front().coarse_correction().extent(0) > 0) {
-      std::vector<decltype(Kokkos::create_mirror_view(z_[0]))> coarse;
-      for (const auto& m : multigrid_)
-        coarse.push_back(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.coarse_correction()));
+    const int lattices = static_cast<int>(b_.size());
+    std::vector<decltype(Kokkos::create_mirror_view(b_[0]))> hb(lattices);
+    for (int l = 0; l < lattices; ++l)
+      if (is_mine(l)) {
+        hb[l] = Kokkos::create_mirror_view(b_[l]);
+        Kokkos::deep_copy(hb[l], 0.0);
+      }
+    for (size_t k = 0; k < gathered_.size(); ++k)
+      if (is_mine(sub_[k])) hb[sub_[k]](local_[k]) = gathered_[k];
+    for (int l = 0; l < lattices; ++l)
+      if (is_mine(l)) {
+        Kokkos::deep_copy(b_[l], hb[l]);
+        multigrid_[l].cycle_down(b_[l]);
+      }
+    if (!pattern_weights_.empty() && coarse_points_ > 0) {
+      // Every sub-lattice's coarse correction, weighed where it is a block's
+      // pattern amplitudes, and each process's own written back.
+      gather_own(coarse_counts_, coarse_points_, [&](int l) { return multigrid_[l].coarse_correction(); },
+                 own_coarse_, all_coarse_);
+      std::vector<HostSlice> coarse;
+      for (int l = 0; l < lattices; ++l) coarse.push_back(slice(all_coarse_, slot_[l], coarse_points_));
       weigh_patterns(coarse);
-      for (size_t l = 0; l < coarse.size(); ++l) Kokkos::deep_copy(multigrid_[l].coarse_correction(), coarse[l]);
+      for (int l = 0; l < lattices; ++l)
+        if (is_mine(l)) Kokkos::deep_copy(multigrid_[l].coarse_correction(), coarse[l]);
     }
-    std::vector<decltype(Kokkos::create_mirror_view(z_[0]))> hz;
-    for (size_t l = 0; l < b_.size(); ++l) {
-      multigrid_[l].cycle_up(z_[l]);
-      hz.push_back(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), z_[l]));
-    }
+    for (int l = 0; l < lattices; ++l)
+      if (is_mine(l)) multigrid_[l].cycle_up(z_[l]);
+    gather_own(z_counts_, points_, [&](int l) { return z_[l]; }, own_z_, all_z_);
     auto out = Kokkos::create_mirror_view(z);
     Kokkos::deep_copy(out, 0.0);
-    for (size_t k = 0; k < own_.size(); ++k) out(own_[k]) = hz[sub_[offset_ + k]](local_[offset_ + k]);
+    for (size_t k = 0; k < own_.size(); ++k) {
+      const long long g = offset_ + static_cast<long long>(k);
+      out(own_[k]) = all_z_[slot_[sub_[g]] * points_ + local_[g]];
+    }
     Kokkos::deep_copy(z, out);
   }
 
  private:
+  using HostSlice = Kokkos::View<double*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
+  bool is_mine(int lattice) const { return lattice % comm_.size() == comm_.rank(); }
+  static HostSlice slice(std::vector<double>& values, long long slot, long long length) {
+    return HostSlice(values.data() + slot * length, length);
+  }
+  // all = every sub-lattice's values(l) (length each), in gathered order;
+  // own: this process's, the buffer it sends. With one process they are one.
+  template <class ValuesOf>
+  void gather_own(const std::vector<int>& counts, long long length, ValuesOf values, std::vector<double>& own,
+                  std::vector<double>& all) const {
+    const int lattices = static_cast<int>(b_.size());
+    const bool alone = comm_.size() == 1;
+    own.resize(alone ? 0 : static_cast<size_t>(counts[comm_.rank()]));
+    all.resize(static_cast<size_t>(lattices * length));
+    long long first_slot = lattices;
+    for (int l = 0; l < lattices; ++l)
+      if (is_mine(l)) first_slot = std::min<long long>(first_slot, slot_[l]);
+    for (int l = 0; l < lattices; ++l)
+      if (is_mine(l))
+        Kokkos::deep_copy(alone ? slice(all, slot_[l], length) : slice(own, slot_[l] - first_slot, length), values(l));
+    if (!alone) comm_.all_gather(own.data(), counts, all.data());
+  }
+
   // Per point (a block of the lattice): the Walsh-Hadamard transform of its
   // 2^bits values (one per sub-lattice) gives 2^bits times the pattern
   // amplitudes; scale amplitude m by w_m and transform back (the transform
@@ -201,10 +250,13 @@ class LatticePreconditioner {
   std::vector<long long> local_;   // and its point there
   std::vector<LatticeMultigrid<Dim, ExecSpace>> multigrid_;
   std::vector<View> b_, z_;
+  std::vector<long long> slot_;                // per sub-lattice: its place in the gathered order
+  std::vector<int> z_counts_, coarse_counts_;  // per process: the values of its sub-lattices it gives
+  long long points_ = 0, coarse_points_ = 0;   // a sub-lattice's points, and its second level's
   // This process's values and everyone's, kept from one apply to the next:
   // a vector made afresh each time was fresh pages each time (glibc maps
   // blocks this large), 15,000 page faults a second on problem III at 0.00125 L.
-  mutable std::vector<double> own_values_, gathered_;
+  mutable std::vector<double> own_values_, gathered_, own_z_, all_z_, own_coarse_, all_coarse_;
   std::array<int, Dim> pattern_bit_{};
   int pattern_bits_ = 0;
   std::vector<double> pattern_weights_;  // empty: all 1
