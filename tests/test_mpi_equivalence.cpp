@@ -194,6 +194,73 @@ TEST(MpiEquivalence, GrainAcrossThePeriodicCorner) {
   expect_same_on_any_number_of_ranks(scene, 0.0);
 }
 
+}  // namespace
+}  // namespace poresph
+
+namespace poresph {
+namespace {
+
+// A process grid whose first boxes are thinner than the support 3h + skin:
+// their halos reach past the neighbouring box, and ghosts come from further.
+TEST(MpiEquivalence, BoxesThinnerThanTheSupport) {
+  SceneConfig scene = testing::periodic_box(2, 24);  // support 3h + skin = 0.133
+  const int ranks = Communicator().size();
+  scene.grid_decomposition = true;
+  scene.process_grid = {ranks, 1};
+  scene.cuts[0] = {0.0};
+  for (int r = 1; r < ranks; ++r) scene.cuts[0].push_back(0.06 * r);  // boxes 0.06 wide
+  scene.cuts[0].push_back(1.0);
+  scene.cuts[1] = {0.0, 1.0};
+  expect_same_on_any_number_of_ranks(scene, 0.05);
+}
+
+// Rows "id value" from every process, on rank 0 as one map by id.
+template <class Value>
+std::map<long long, Value> gathered_by_id(const Communicator& comm, const std::string& rows) {
+  std::map<long long, Value> result;
+  std::istringstream in(comm.gather_text(rows));
+  long long key;
+  Value value;
+  while (in >> key >> value) result[key] = value;
+  return result;
+}
+
+// The fluid's regions (solver/FluidRegions.hpp) on the pocket cell (the
+// channel and its sealed pocket): each particle in the same region on any
+// number of processes as on one; and the steady solve, one border a region,
+// to the same k within its tolerance.
+std::map<long long, int> pocket_regions(const SceneConfig& scene, const Communicator& comm, double& k) {
+  Simulation<2, Kokkos::Serial> sim(scene, Kokkos::Serial(), comm);
+  sim.compute_rates();
+  const auto regions = find_fluid_regions(sim);
+  const auto& P = sim.particles();
+  const auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.id);
+  const auto of = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), regions.of);
+  std::string rows;
+  for (int i = 0; i < P.owned; ++i) rows += std::to_string(id(i)) + " " + std::to_string(of(i)) + "\n";
+  const auto result = gathered_by_id<int>(comm, rows);
+  SteadyOptions options;
+  options.tolerance = 1e-8;
+  SteadySolver<2, Kokkos::Serial> solver(sim, Kokkos::Serial(), options, nullptr, nullptr);
+  const auto report = solver.solve();
+  EXPECT_TRUE(report.converged) << comm.size() << " processes";
+  EXPECT_EQ(report.fluid_regions, 2);
+  k = scene.kinematic_viscosity * sim.superficial_velocity()[0] / scene.body_force[0];
+  return result;
+}
+
+TEST(MpiEquivalence, FluidRegionsAndSteadySolveOfPockets) {
+  const SceneConfig scene = testing::pocket_cell(false);
+  const Communicator world;
+  double k_distributed = 0, k_single = 0;
+  const auto distributed = pocket_regions(scene, world, k_distributed);
+  if (world.rank() != 0) return;
+  const auto single = pocket_regions(scene, Communicator(MPI_COMM_SELF), k_single);
+  EXPECT_EQ(distributed, single);
+  EXPECT_NEAR(k_distributed / k_single, 1.0, 1e-6);
+  std::printf("%d ranks: k %.9e, one rank: %.9e\n", world.size(), k_distributed, k_single);
+}
+
 // The wide lattice preconditioner (solver/LatticePreconditioner.hpp) shares
 // its sub-lattices' cycles out among the processes and gathers the pattern
 // weights' coarse corrections and the results: applied to the same vector,
@@ -218,12 +285,7 @@ std::map<long long, double> preconditioned(const SceneConfig& scene, const Commu
   char row[64];
   for (int i = 0; i < owned; ++i)
     if (fluid(i) > 0) rows += (std::snprintf(row, sizeof row, "%lld %.17g\n", P.id(i), z(i)), row);
-  std::map<long long, double> result;
-  std::istringstream in(comm.gather_text(rows));
-  long long key;
-  double value;
-  while (in >> key >> value) result[key] = value;
-  return result;
+  return gathered_by_id<double>(comm, rows);
 }
 
 TEST(MpiEquivalence, WideLatticePreconditionerSharedOutAmongTheProcesses) {
@@ -239,66 +301,6 @@ TEST(MpiEquivalence, WideLatticePreconditionerSharedOutAmongTheProcesses) {
   for (const auto& [id, value] : single) worst = std::max(worst, std::abs(distributed.at(id) - value));
   EXPECT_GT(largest, 0.0);
   EXPECT_LT(worst, 1e-13 * largest) << world.size() << " processes";
-}
-
-}  // namespace
-}  // namespace poresph
-
-namespace poresph {
-namespace {
-
-// A process grid whose first boxes are thinner than the support 3h + skin:
-// their halos reach past the neighbouring box, and ghosts come from further.
-TEST(MpiEquivalence, BoxesThinnerThanTheSupport) {
-  SceneConfig scene = testing::periodic_box(2, 24);  // support 3h + skin = 0.133
-  const int ranks = Communicator().size();
-  scene.grid_decomposition = true;
-  scene.process_grid = {ranks, 1};
-  scene.cuts[0] = {0.0};
-  for (int r = 1; r < ranks; ++r) scene.cuts[0].push_back(0.06 * r);  // boxes 0.06 wide
-  scene.cuts[0].push_back(1.0);
-  scene.cuts[1] = {0.0, 1.0};
-  expect_same_on_any_number_of_ranks(scene, 0.05);
-}
-
-// The fluid's regions (solver/FluidRegions.hpp) on the pocket cell (the
-// channel and its sealed pocket): each particle in the same region on any
-// number of processes as on one; and the steady solve, one border a region,
-// to the same k within its tolerance.
-std::map<long long, int> pocket_regions(const SceneConfig& scene, const Communicator& comm, double& k) {
-  Simulation<2, Kokkos::Serial> sim(scene, Kokkos::Serial(), comm);
-  sim.compute_rates();
-  const auto regions = find_fluid_regions(sim);
-  const auto& P = sim.particles();
-  const auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.id);
-  const auto of = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), regions.of);
-  std::string rows;
-  for (int i = 0; i < P.owned; ++i) rows += std::to_string(id(i)) + " " + std::to_string(of(i)) + "\n";
-  std::map<long long, int> result;
-  std::istringstream in(comm.gather_text(rows));
-  long long key;
-  int region;
-  while (in >> key >> region) result[key] = region;
-  SteadyOptions options;
-  options.tolerance = 1e-8;
-  SteadySolver<2, Kokkos::Serial> solver(sim, Kokkos::Serial(), options, nullptr, nullptr);
-  const auto report = solver.solve();
-  EXPECT_TRUE(report.converged) << comm.size() << " processes";
-  EXPECT_EQ(report.fluid_regions, 2);
-  k = scene.kinematic_viscosity * sim.superficial_velocity()[0] / scene.body_force[0];
-  return result;
-}
-
-TEST(MpiEquivalence, FluidRegionsAndSteadySolveOfPockets) {
-  const SceneConfig scene = testing::pocket_cell(false);
-  const Communicator world;
-  double k_distributed = 0, k_single = 0;
-  const auto distributed = pocket_regions(scene, world, k_distributed);
-  if (world.rank() != 0) return;
-  const auto single = pocket_regions(scene, Communicator(MPI_COMM_SELF), k_single);
-  EXPECT_EQ(distributed, single);
-  EXPECT_NEAR(k_distributed / k_single, 1.0, 1e-6);
-  std::printf("%d ranks: k %.9e, one rank: %.9e\n", world.size(), k_distributed, k_single);
 }
 
 }  // namespace
