@@ -307,7 +307,7 @@ class LatticeMultigrid {
   // Level l's residual restricted to level l + 1's right-hand side (the
   // aggregate's sum of residuals), the coarse x set to 0. By coarse lines
   // along x: the fine lines of a line's aggregates are found once, not each
-  // point's by integer division (a fifth of a cycle's time when they were).
+  // point's indices by integer divisions (docs/steady_solver.md).
   void restrict_residual(size_t l) const {
     const Level& level = levels_[l];
     apply_level(level, level.x, level.r);
