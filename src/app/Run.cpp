@@ -8,8 +8,10 @@
 #include <csignal>
 #include <filesystem>
 #include <functional>
+#include <iomanip>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -32,6 +34,22 @@ volatile std::sig_atomic_t stop_signal = 0;
 
 extern "C" void request_stop(int signal_number) {
   if (stop_signal == 0) stop_signal = signal_number;
+}
+
+// drainage.csv: the drainage curve, largest ball first (radius in m; the
+// capillary pressure with Drainage/Surface Tension).
+std::string drainage_csv(const DrainageMeasure& drainage) {
+  std::ostringstream text;
+  text << std::setprecision(10);
+  text << "radius,saturation,curvature" << (drainage.has_capillary_pressure ? ",capillary_pressure" : "") << "\n";
+  for (const auto& step : drainage.curve) {
+    const double curvature = drainage.curvature * drainage.radius / step.radius;  // (dim - 1) cos(theta) / r
+    text << step.radius << "," << step.saturation << "," << curvature;
+    if (drainage.has_capillary_pressure)
+      text << "," << drainage.capillary_pressure * drainage.radius / step.radius;
+    text << "\n";
+  }
+  return text.str();
 }
 
 template <int Dim, class ExecSpace>
@@ -89,8 +107,11 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
     summarised = report;
     summarise_stages(records, Dim, stages.front().levels, scene.steady_tolerance > 0, summarised, reynolds_scale,
                      scene.solver.max_inner_iterations, scene.solver.raised_inner_iterations);
-    if (Communicator().rank() == 0)
+    if (Communicator().rank() == 0) {
       write_summary_file(options.output_dir + "/summary.json", summarised.to_json().str() + "\n");
+      if (summarised.drainage.placed)
+        write_file_atomically(options.output_dir + "/drainage.csv", drainage_csv(summarised.drainage));
+    }
   };
   // summary.json at every ending once the directory is claimed, a failed write
   // included; what stopped the run stays the message, with the summary's own
@@ -210,6 +231,16 @@ JsonObject RunReport::to_json() const {
                               .add("laplace_pressure", capillary.laplace_pressure)
                               .add("max_speed", capillary.max_speed)
                               .add("capillary_number", capillary.capillary_number));
+  if (drainage.placed) {
+    JsonObject d;
+    d.add("radius", drainage.radius)
+        .add("saturation", drainage.saturation)
+        .add("curvature", drainage.curvature)
+        .add("contact_angle", drainage.contact_angle)
+        .add("inlet", drainage.inlet);
+    if (drainage.has_capillary_pressure) d.add("capillary_pressure", drainage.capillary_pressure);
+    json.add("drainage", d);
+  }
   if (has_permeability) {
     const char* axis = "xyz";
     JsonObject k, u;

@@ -78,6 +78,8 @@ struct RunReport {
   std::vector<PhaseMeasure> phases;
   // A drop (Phases/Phase 1 round, Phases/Surface Tension > 0): its pressure jump against Laplace's law.
   CapillaryMeasure capillary;
+  // Phase 1 placed by drainage: its step of the rule and the drainage curve (also drainage.csv).
+  DrainageMeasure drainage;
 
   // Porous-media measures (present when the scene is driven by a body force).
   bool has_permeability = false;

@@ -19,6 +19,7 @@
 #include "geometry/Solid.hpp"
 #include "diagnostics/Health.hpp"
 #include "diagnostics/SurfaceLoads.hpp"
+#include "scene/Drainage.hpp"
 #include "scene/SceneConfig.hpp"
 #include "parallel/Communicator.hpp"
 #include "parallel/Decomposition.hpp"
@@ -142,6 +143,9 @@ class Simulation {
   double time_step() const { return derived_.time_step; }
   const DerivedParameters& derived() const { return derived_; }
   const SceneConfig& scene() const { return scene_; }
+  // Phase 1 placed by drainage (scene/Drainage.hpp): its radius,
+  // saturation and capillary pressure, and the drainage curve.
+  const DrainagePlacement& drainage() const { return drainage_; }
   ParticleSet& particles() { return particles_; }
   const ParticleSet& particles() const { return particles_; }
 
@@ -292,6 +296,8 @@ class Simulation {
   void grain_loads_stage();      // "grain loads": the fluid's force and torque on them, their accelerations
   void grains_correct_stage();   // "grains correct": the whole step, their particles placed
   void place_phases();           // at set-up: each particle's phase from its lattice point
+  void drain_phase_one();        // at set-up: phase 1's points by drainage, on the whole lattice
+  long long drainage_lattice_index(const double* x) const;
   void place_surface_tension();  // at set-up: each fluid particle's surface-tension acceleration
   void add_surface_tension();    // in the finish: that acceleration into dv/dt
   void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity
@@ -328,6 +334,7 @@ class Simulation {
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;
   RigidGrains<Dim, ExecSpace> rigid_grains_;  // Grains/Motion = free or rotating
+  DrainagePlacement drainage_;  // phase 1 placed by drainage: where, and the curve (not the points: freed)
   bool measure_balance_ = false;  // moving particles on 2 or more processes
   BalanceRecord balance_;
   std::optional<Decomposition<Dim>> next_decomposition_;  // from rebalance(), taken at the next refresh

@@ -358,6 +358,7 @@ class StageLoop {
     record_health(report, observed.health);
     if (!observed.phases.empty()) report.phases = observed.phases;
     if (observed.capillary.measured) report.capillary = observed.capillary;
+    if (observed.drainage.placed) report.drainage = observed.drainage;
     if (observed.channel) {
       report.channel = true;
       report.profile_error = observed.profile_error;

@@ -17,6 +17,7 @@
 
 #include "diagnostics/ChannelFlow.hpp"
 #include "io/RunState.hpp"
+#include "scene/Drainage.hpp"
 
 namespace poresph {
 
@@ -61,6 +62,20 @@ struct CapillaryMeasure {
   double capillary_number = 0;  // max_speed mu / sigma, mu the larger dynamic viscosity
 };
 
+// Phase 1 placed by drainage (scene/Drainage.hpp): the step of the rule
+// it sits at, and the drainage curve of the lattice.
+struct DrainageMeasure {
+  bool placed = false;
+  double radius = 0;      // m
+  double saturation = 0;  // of phase 1, of the fluid particles
+  double curvature = 0;   // (dim - 1) cos(theta) / r (1/m)
+  bool has_capillary_pressure = false;
+  double capillary_pressure = 0;  // sigma x curvature (Pa), with Drainage/Surface Tension
+  double contact_angle = 0;       // degrees
+  std::string inlet;              // x, y, z or anywhere
+  std::vector<DrainageStep> curve;  // radius (m), saturation
+};
+
 // What a stage's observers measured, however the stage ended: what each
 // reports of itself (Observer::report), for the stage's record and summary.json.
 struct StageObservations {
@@ -77,6 +92,7 @@ struct StageObservations {
   // Two fluids: each phase at the end of the stage (empty: one fluid, or not measured).
   std::vector<PhaseMeasure> phases;
   CapillaryMeasure capillary;
+  DrainageMeasure drainage;
 };
 
 // Where a run stands, for the progress line (io/ProgressLine.hpp).

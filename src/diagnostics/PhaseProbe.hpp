@@ -140,6 +140,19 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
   return measures;
 }
 
+// What a drainage placement reports.
+inline DrainageMeasure drainage_measure(const DrainagePlacement& placed, const PhaseConfig::Drainage& rule) {
+  DrainageMeasure m;
+  m.placed = true;
+  m.radius = placed.radius, m.saturation = placed.saturation, m.curvature = placed.curvature;
+  m.has_capillary_pressure = rule.surface_tension > 0;
+  m.capillary_pressure = placed.capillary_pressure;
+  m.contact_angle = rule.contact_angle;
+  m.inlet = rule.inlet_anywhere ? "anywhere" : std::string(1, "xyz"[rule.inlet_axis]);
+  m.curve = placed.curve;
+  return m;
+}
+
 template <class Sim>
 class PhaseProbe : public Observer<Sim> {
  public:
@@ -153,10 +166,12 @@ class PhaseProbe : public Observer<Sim> {
   void at_end(Sim& sim) override {
     measures_ = measure_phases(sim, scene_, axis_);
     if (scene_.surface_tension > 0 && scene_.phases[1].round()) capillary_ = measure_capillary(sim, scene_);
+    if (scene_.phases[1].drained()) drainage_ = drainage_measure(sim.drainage(), scene_.phases[1].drainage);
   }
   void report(StageObservations& o) const override {
     o.phases = measures_;
     o.capillary = capillary_;
+    o.drainage = drainage_;
   }
 
  private:
@@ -164,6 +179,7 @@ class PhaseProbe : public Observer<Sim> {
   int axis_;
   std::vector<PhaseMeasure> measures_;
   CapillaryMeasure capillary_;
+  DrainageMeasure drainage_;
 };
 
 }  // namespace poresph

@@ -93,7 +93,13 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
     const PhaseConfig& second = scene.phases[1];
     entries.emplace_back("Phases/Count", std::to_string(scene.phases.size()));
     entries.emplace_back("Phases/Phase 1/Kinematic Viscosity", number(second.kinematic_viscosity));
-    if (second.round()) {
+    if (second.drained()) {
+      const auto& rule = second.drainage;
+      entries.emplace_back("Phases/Phase 1/Drainage/Saturation", number(rule.saturation));
+      entries.emplace_back("Phases/Phase 1/Drainage/Radius", number(rule.radius));
+      entries.emplace_back("Phases/Phase 1/Drainage/Inlet",
+                           rule.inlet_anywhere ? std::string("anywhere") : std::string(1, "xyz"[rule.inlet_axis]));
+    } else if (second.round()) {
       entries.emplace_back("Phases/Phase 1/Region Centre", list(second.region_centre.data(), D));
       entries.emplace_back("Phases/Phase 1/Region Radius", number(second.region_radius));
     } else {

@@ -48,7 +48,8 @@ constexpr StageFile kStageFiles[] = {{"permeability_history", ".csv"}, {"profile
                                      {"grains_history", ".csv"},     {"balance_history", ".csv"},
                                      {"phases_history", ".csv"}};
 // The run's own files, one of each.
-constexpr const char* kRunFiles[] = {"summary.json", "parameters_used.xml", "checkpoint.h5", "grains_used.txt"};
+constexpr const char* kRunFiles[] = {"summary.json", "parameters_used.xml", "checkpoint.h5", "grains_used.txt",
+                                     "drainage.csv"};
 
 }  // namespace
 

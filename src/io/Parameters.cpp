@@ -176,7 +176,8 @@ RCP<ParameterList> make_valid_parameters() {
           one_of({"volume fraction", "phase"}));
     auto& p = s.sublist("Phase 1", false,
                         "The second fluid and the region it fills (with Count = 2): a box (Region Low, Region "
-                        "High) or a disc/sphere (Region Centre, Region Radius), not both.");
+                        "High), a disc/sphere (Region Centre, Region Radius) or the Drainage sublist's rule: "
+                        "one of them.");
     p.set("Name", std::string("phase 1"), "Name of the phase in summary.json (phase 0 is 'fluid').");
     p.set("Density", 0.0,
           "Reference density of the phase (kg/m^3). 0: Fluid/Density. Only a density ratio of 1 is supported "
@@ -198,6 +199,31 @@ RCP<ParameterList> make_valid_parameters() {
           "periodic faces, to the nearest image) is of this phase.",
           reals_in(-kHuge, kHuge));
     p.set("Region Radius", 0.0, "Radius of the disc or sphere (m), > 0 with Region Centre.", real_in(-kHuge, kHuge));
+    auto& drainage = p.sublist(
+        "Drainage", false,
+        "Instead of a region: the phase is the non-wetting fluid placed by quasi-static drainage, the "
+        "morphological rule of Hilpert & Miller (2001): at ball radius r it fills every ball of radius r that "
+        "fits in the pore space and whose centre reaches the inlet through centres of such balls; capillary "
+        "pressure Pc = (dim - 1) sigma cos(theta) / r. Measured on the fixed particles' lattice; needs a solid "
+        "(grains, an image or walls). Give Saturation or Radius. The run writes drainage.csv, the saturation "
+        "against r (and Pc) down to half a spacing, and summary.json's 'drainage' (docs/method.md).");
+    drainage.set("Saturation", 0.0,
+                 "Target saturation of the phase in (0, 1]: the largest r at which it fills at least this share "
+                 "of the fluid particles (the drainage step that first reaches it). 0: Radius sets r.",
+                 real_in(0.0, kHuge));
+    drainage.set("Radius", 0.0, "The ball radius r (m), > 0. 0: Saturation sets r.", real_in(-kHuge, kHuge));
+    drainage.set("Inlet", std::string("x"),
+                 "Where the phase enters: 'x', 'y' or 'z', the cell's face across that axis (a reservoir at x = 0, "
+                 "which across a periodic face is also x = L), or 'anywhere' (every ball that fits is filled).",
+                 one_of({"x", "y", "z", "anywhere"}));
+    drainage.set("Contact Angle", 0.0,
+                 "Static contact angle theta (degrees) measured through phase 0, the wetting fluid, in [0, 90): "
+                 "it enters Pc only.",
+                 real_in(-kHuge, kHuge));
+    drainage.set("Surface Tension", 0.0,
+                 "sigma (N/m) for the capillary pressure reported; 0: Pc not reported (r and the curvature "
+                 "(dim - 1) cos(theta) / r are). No force: the placed interface is at rest.",
+                 real_in(0.0, kHuge));
   }
   {
     auto& s = list->sublist("Grains", false, "Soil grains: circles in 2D, spheres in 3D. They may cross the periodic "

@@ -1,7 +1,7 @@
 #pragma once
 // particles.csv (Output/Final Particles CSV): every particle's id, kind,
-// position, velocity, density and pressure at the end of a run, one row a
-// particle, gathered on rank 0 (perf/plot_velocity.py draws it).
+// position, velocity, density and pressure (and phase, with two fluids) at
+// the end of a run, one row a particle, gathered on rank 0 (perf/plot_velocity.py draws it).
 #include <Kokkos_Core.hpp>
 
 #include <cmath>
@@ -23,10 +23,13 @@ void write_particles_csv(const Sim& sim, const std::string& path) {
   auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.kind);
   auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), P.id);
   const auto& scene = sim.scene();
+  const bool phases = scene.has_phases();
+  auto phase = Kokkos::create_mirror_view(P.phase);
+  if (phases) Kokkos::deep_copy(phase, P.phase);
   std::string header = "id,kind";
   for (int d = 0; d < Dim; ++d) header += std::string(",") + "xyz"[d];
   for (int d = 0; d < Dim; ++d) header += std::string(",v") + "xyz"[d];
-  header += ",rho,p\n";
+  header += phases ? ",rho,p,phase\n" : ",rho,p\n";
   std::string text;
   char buffer[64];
   for (int i = 0; i < P.owned; ++i) {
@@ -39,8 +42,9 @@ void write_particles_csv(const Sim& sim, const std::string& path) {
       text += buffer;
     }
     for (int d = 0; d < Dim; ++d) std::snprintf(buffer, sizeof buffer, ",%.10g", v(i, d)), text += buffer;
-    std::snprintf(buffer, sizeof buffer, ",%.12g,%.10g\n", rho(i), p(i));
+    std::snprintf(buffer, sizeof buffer, ",%.12g,%.10g", rho(i), p(i));
     text += buffer;
+    text += phases ? "," + std::to_string(int(phase(i))) + "\n" : "\n";
   }
   const std::string all = sim.communicator().gather_text(text);
   if (sim.communicator().rank() == 0) write_file_atomically(path, header + all);

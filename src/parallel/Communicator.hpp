@@ -3,7 +3,9 @@
 // itself. One process, MPI_COMM_SELF or any communicator: the same code.
 #include <mpi.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <type_traits>
@@ -79,6 +81,16 @@ class Communicator {
   void sum(double* values, int n) const {
     const CommunicationTimer timer;
     MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_SUM, comm_);
+  }
+
+  // Element-wise "any" of 0/1 flags over processes, in place (in pieces:
+  // MPI counts in int).
+  void any(std::vector<char>& flags) const {
+    const CommunicationTimer timer;
+    constexpr std::size_t kPiece = 1 << 30;
+    for (std::size_t first = 0; first < flags.size(); first += kPiece)
+      MPI_Allreduce(MPI_IN_PLACE, flags.data() + first, static_cast<int>(std::min(kPiece, flags.size() - first)),
+                    MPI_SIGNED_CHAR, MPI_MAX, comm_);
   }
 
   double min(double x) const { return reduce(x, MPI_MIN); }

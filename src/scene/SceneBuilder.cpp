@@ -277,8 +277,14 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const double radius = second.get<double>("Region Radius");
   const double k = phases.get<double>("Single Phase Permeability");
   const double sigma = phases.get<double>("Surface Tension");
+  const auto& drainage = second.sublist("Drainage");
+  const double drain_saturation = drainage.get<double>("Saturation"), drain_radius = drainage.get<double>("Radius");
+  const std::string inlet = drainage.get<std::string>("Inlet");
+  const double contact_angle = drainage.get<double>("Contact Angle");
+  const double drain_sigma = drainage.get<double>("Surface Tension");
+  const bool drained = drain_saturation != 0 || drain_radius != 0;
   if (count == 1) {
-    if (nu != 0 || density != 0 || !low.empty() || !high.empty() || !centre.empty() || radius != 0 ||
+    if (nu != 0 || density != 0 || !low.empty() || !high.empty() || !centre.empty() || radius != 0 || drained ||
         second.get<std::string>("Name") != "phase 1")
       fail("Phases/Phase 1 is given, but Phases/Count = 1 (the Fluid sublist's fluid alone): set Phases/Count = 2, "
            "or leave Phases/Phase 1 out");
@@ -301,12 +307,12 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
     fail(msg.str());
   }
   const bool box = !low.empty() || !high.empty(), round = !centre.empty() || radius != 0;
-  if (box && round)
-    fail("Phases/Phase 1: give its region either as a box (Region Low, Region High) or as a disc/sphere (Region "
-         "Centre, Region Radius), not both");
-  if (!box && !round)
-    fail("Phases/Phase 1 needs its region with Phases/Count = 2: a box (Region Low, Region High) or a "
-         "disc/sphere (Region Centre, Region Radius)");
+  if (box + round + drained > 1)
+    fail("Phases/Phase 1: give its region one way: a box (Region Low, Region High), a disc/sphere (Region "
+         "Centre, Region Radius) or the Drainage sublist's rule, not two");
+  if (!box && !round && !drained)
+    fail("Phases/Phase 1 needs its region with Phases/Count = 2: a box (Region Low, Region High), a "
+         "disc/sphere (Region Centre, Region Radius), or Drainage/Saturation or Drainage/Radius");
   PhaseConfig outside, inside;
   outside.name = "fluid";
   outside.density = scene.density;
@@ -314,7 +320,33 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   inside.name = second.get<std::string>("Name");
   inside.density = scene.density;
   inside.kinematic_viscosity = nu;
-  if (box) {
+  if (drained) {
+    auto& rule = inside.drainage;
+    std::ostringstream msg;
+    msg << std::setprecision(10);
+    if (drain_saturation != 0 && drain_radius != 0)
+      msg << "Phases/Phase 1/Drainage: give Saturation or Radius, not both";
+    else if (drain_saturation != 0 && !(drain_saturation > 0 && drain_saturation <= 1))
+      msg << "Phases/Phase 1/Drainage/Saturation = " << drain_saturation << " must lie in (0, 1]";
+    else if (drain_radius != 0 && !(drain_radius > 0))
+      msg << "Phases/Phase 1/Drainage/Radius = " << drain_radius << " must be positive (m): the balls' radius";
+    else if (!(contact_angle >= 0 && contact_angle < 90))
+      msg << "Phases/Phase 1/Drainage/Contact Angle = " << contact_angle
+          << " must lie in [0, 90) degrees (measured through phase 0, the wetting fluid): at 90 or more, phase 1 "
+             "wets the solid and pushing it in is imbibition, not drainage (swap the phases)";
+    else if (!scene.has_solid() && scene.walls == WallType::None)
+      msg << "Phases/Phase 1/Drainage needs a solid (Grains, an Image or Walls): in an open cell every ball fits "
+             "and the phase would fill it all";
+    else if (inlet != "anywhere" && inlet[0] - 'x' >= dim)
+      msg << "Phases/Phase 1/Drainage/Inlet = '" << inlet << "' names an axis the " << dim << "D cell has not";
+    if (!msg.str().empty()) fail(msg.str());
+    rule.saturation = drain_saturation;
+    rule.radius = drain_radius;
+    rule.inlet_anywhere = inlet == "anywhere";
+    rule.inlet_axis = rule.inlet_anywhere ? 0 : inlet[0] - 'x';
+    rule.contact_angle = contact_angle;
+    rule.surface_tension = drain_sigma;
+  } else if (box) {
     for (const auto& [corner, values] : {std::pair<const char*, const Array<double>&>{"Region Low", low},
                                          std::pair<const char*, const Array<double>&>{"Region High", high}})
       if (static_cast<int>(values.size()) != dim)

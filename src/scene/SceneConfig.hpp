@@ -70,6 +70,18 @@ struct PhaseConfig {
   std::array<double, 3> region_centre{};
   double region_radius = 0;  // > 0: a disc (sphere), not a box
   bool round() const { return region_radius > 0; }
+  // Instead of a region: placed by the morphological drainage rule
+  // (scene/Drainage.hpp), at a ball radius or at the first radius that
+  // reaches a saturation.
+  struct Drainage {
+    double saturation = 0;  // > 0: the target saturation of this phase
+    double radius = 0;      // > 0: the ball radius (m)
+    int inlet_axis = 0;
+    bool inlet_anywhere = false;
+    double contact_angle = 0;    // degrees, through phase 0
+    double surface_tension = 0;  // N/m, for the capillary pressure reported; 0: not reported
+  } drainage;
+  bool drained() const { return drainage.saturation > 0 || drainage.radius > 0; }
 };
 
 // How the surface tension's colour function is made (Phases/Colour, physics/SurfaceTension.hpp).

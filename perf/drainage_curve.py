@@ -1,0 +1,101 @@
+#!/usr/bin/python3
+"""Quasi-static drainage of a grain cell (Phases/Phase 1/Drainage, the
+morphological rule of src/scene/Drainage.hpp) at several spacings: the
+capillary pressure-saturation curve of each spacing (drainage.csv), and at
+a few target saturations the co-current flow of both phases through the
+placed distribution, solved for its steady state, with each phase's
+relative permeability against the single-phase k of the same spacing.
+
+    perf/drainage_curve.py --scene problem3/problem3.xml --length 0.1 \\
+        --spacings 0.002 0.001 0.0005 --saturations 0.65 0.75 0.85 0.95 \\
+        [--viscosity-ratio 2] [--set "Permeability/Tensor=false" ...] [--out build/drainage] [--figure F.png]
+
+The capillary pressure is given as L kappa = L (dim - 1) cos(theta) / r
+(theta = 0): Pc L / sigma, the cell's side L over the balls' radius. Phase 1
+is the non-wetting phase, entering from the cell's faces across x. Prints
+the Markdown tables of docs/validation.md; --figure draws the curves and
+the k_r points.
+"""
+import argparse
+import csv
+import os
+import time
+
+from poresph_runs import run_poresph  # noqa: E402
+
+NU = 1e-6
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default="build")
+    parser.add_argument("--scene", default="problem3/problem3.xml")
+    parser.add_argument("--length", type=float, default=0.1, help="the cell's side L (m)")
+    parser.add_argument("--spacings", type=float, nargs="+", default=[0.002, 0.001, 0.0005])
+    parser.add_argument("--saturations", type=float, nargs="+", default=[0.65, 0.75, 0.85, 0.95])
+    parser.add_argument("--viscosity-ratio", type=float, default=2.0, help="phase 1's viscosity over phase 0's")
+    parser.add_argument("--set", action="append", default=[], help="more --set settings for every run")
+    parser.add_argument("--ranks", type=int, default=None)
+    parser.add_argument("--out", default="build/drainage")
+    parser.add_argument("--figure", default=None)
+    args = parser.parse_args()
+    common = ["Solver/Method=steady"] + args.set
+    curves, points = {}, []
+    for dx in args.spacings:
+        spacing = [f"Discretization/Particle Spacing={dx!r}"]
+        single = run_poresph(args.build, args.scene, os.path.join(args.out, f"single-{dx:g}"), common + spacing,
+                             ranks=args.ranks)
+        k = single["permeability"]["kxx"]
+        for target in args.saturations:
+            directory = os.path.join(args.out, f"dx{dx:g}-s{target:g}")
+            start = time.monotonic()
+            summary = run_poresph(args.build, args.scene, directory, common + spacing + [
+                "Phases/Count=2", f"Phases/Phase 1/Kinematic Viscosity={NU * args.viscosity_ratio!r}",
+                f"Phases/Phase 1/Drainage/Saturation={target!r}", f"Phases/Single Phase Permeability={k!r}"],
+                ranks=args.ranks)
+            seconds = time.monotonic() - start
+            if dx not in curves:
+                with open(os.path.join(directory, "drainage.csv")) as f:
+                    curves[dx] = [(float(r["saturation"]), float(r["curvature"]) * args.length)
+                                  for r in csv.DictReader(f)]
+            drainage, phases = summary["drainage"], summary["phases"]
+            points.append(dict(dx=dx, target=target, saturation=drainage["saturation"],
+                               pc=drainage["curvature"] * args.length, radius=drainage["radius"] / dx,
+                               krw=phases[0]["relative_permeability"], krn=phases[1]["relative_permeability"],
+                               k=k, seconds=seconds, converged=summary["solver"]["converged"]))
+    print(f"| spacing (L) | target S_nw | S_nw | Pc L / sigma | r (spacings) | k_r,w | k_r,nw | k (m^2) | s |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for p in points:
+        print(f"| {p['dx'] / args.length:g} | {p['target']:g} | {p['saturation']:.4f} | {p['pc']:.2f} | "
+              f"{p['radius']:.2f} | {p['krw']:.4f} | {p['krn']:.4f} | {p['k']:.4e} | {p['seconds']:.1f}"
+              f"{'' if p['converged'] else ' (not converged)'} |")
+    print()
+    print("| spacing (L) | breakthrough Pc L / sigma | S_nw there | Pc L / sigma at S_nw = 0.9 |")
+    print("|---|---|---|---|")
+    for dx, curve in curves.items():
+        entered = next((s, pc) for s, pc in curve if s > 0)
+        at_90 = next((pc for s, pc in curve if s >= 0.9), float("nan"))
+        print(f"| {dx / args.length:g} | {entered[1]:.2f} | {entered[0]:.4f} | {at_90:.2f} |")
+    if args.figure:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
+        for dx, curve in curves.items():
+            left.step([s for s, _ in curve], [pc for _, pc in curve], where="post", label=f"dx = {dx / args.length:g} L")
+            mine = [p for p in points if p["dx"] == dx]
+            right.plot([p["saturation"] for p in mine], [p["krw"] for p in mine], "o-", label=f"k_r,w dx = {dx / args.length:g} L")
+            right.plot([p["saturation"] for p in mine], [p["krn"] for p in mine], "s--", label=f"k_r,nw dx = {dx / args.length:g} L")
+        left.set_xlabel("non-wetting saturation S_nw")
+        left.set_ylabel("Pc L / sigma")
+        left.set_yscale("log")
+        left.legend()
+        right.set_xlabel("non-wetting saturation S_nw")
+        right.set_ylabel("relative permeability (fixed distribution)")
+        right.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(args.figure, dpi=100)
+
+
+if __name__ == "__main__":
+    main()

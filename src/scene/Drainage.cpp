@@ -1,0 +1,214 @@
+#include "scene/Drainage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <queue>
+#include <utility>
+#include <sstream>
+#include <stdexcept>
+
+#include "geometry/DistanceTransform.hpp"
+
+namespace poresph {
+
+namespace {
+
+// The lattice index of (i, j, k) moved by one point along `axis` (step +1
+// or -1), wrapped across a periodic face; -1 past a closed one.
+long long step_along(const DrainageLattice& lattice, long long n, int axis, int step, bool wrap) {
+  std::array<long long, 3> at{{n % lattice.shape[0], (n / lattice.shape[0]) % lattice.shape[1],
+                               n / (lattice.shape[0] * lattice.shape[1])}};
+  at[axis] += step;
+  if (at[axis] < 0 || at[axis] >= lattice.shape[axis]) {
+    if (!wrap) return -1;
+    at[axis] = (at[axis] + lattice.shape[axis]) % lattice.shape[axis];
+  }
+  return at[0] + lattice.shape[0] * (at[1] + lattice.shape[1] * at[2]);
+}
+
+}  // namespace
+
+std::vector<double> pore_radius(const DrainageLattice& lattice) {
+  if (static_cast<long long>(lattice.fluid.size()) != lattice.size())
+    throw std::logic_error("pore_radius: the fluid flags do not cover the lattice");
+  // A closed axis is bounded by solid: one layer of it on either side.
+  std::array<long long, 3> padded = lattice.shape, first{};
+  for (int d = 0; d < lattice.dimension; ++d)
+    if (!lattice.periodic[d]) padded[d] += 2, first[d] = 1;
+  std::vector<char> solid(static_cast<size_t>(padded[0] * padded[1] * padded[2]), 1);
+  for (long long k = 0; k < lattice.shape[2]; ++k)
+    for (long long j = 0; j < lattice.shape[1]; ++j)
+      for (long long i = 0; i < lattice.shape[0]; ++i)
+        solid[static_cast<size_t>(i + first[0] + padded[0] * (j + first[1] + padded[1] * (k + first[2])))] =
+            !lattice.fluid[static_cast<size_t>(i + lattice.shape[0] * (j + lattice.shape[1] * k))];
+  const auto squared = squared_distance_transform(padded, lattice.dimension, lattice.periodic, solid);
+  std::vector<double> radius(lattice.fluid.size(), 0.0);
+  for (long long k = 0; k < lattice.shape[2]; ++k)
+    for (long long j = 0; j < lattice.shape[1]; ++j)
+      for (long long i = 0; i < lattice.shape[0]; ++i) {
+        const size_t n = static_cast<size_t>(i + lattice.shape[0] * (j + lattice.shape[1] * k));
+        const double d2 =
+            squared[static_cast<size_t>(i + first[0] + padded[0] * (j + first[1] + padded[1] * (k + first[2])))];
+        // No solid anywhere: every ball fits; the cell's width bounds it.
+        if (lattice.fluid[n]) radius[n] = std::isfinite(d2) ? std::sqrt(d2) - 0.5 : HUGE_VAL;
+      }
+  return radius;
+}
+
+namespace {
+
+// Each fluid point's reach radius: the largest r at which it is the centre
+// of a ball that reaches it from the inlet through centres of balls of
+// radius r, i.e. the widest path to it, the least pore radius along the
+// path made largest (a Dijkstra search on the bottleneck). From anywhere:
+// its pore radius. 0 where no path leads.
+std::vector<double> reach_radius(const DrainageLattice& lattice, const std::vector<double>& radius,
+                                 const DrainageInlet& inlet) {
+  if (inlet.anywhere) return radius;
+  const long long size = lattice.size(), last = lattice.shape[inlet.axis] - 1;
+  std::vector<double> reach(radius.size(), 0.0);
+  std::priority_queue<std::pair<double, long long>> front;
+  for (long long n = 0; n < size; ++n) {
+    const std::array<long long, 3> at{{n % lattice.shape[0], (n / lattice.shape[0]) % lattice.shape[1],
+                                       n / (lattice.shape[0] * lattice.shape[1])}};
+    if (lattice.fluid[n] && (at[inlet.axis] == 0 || at[inlet.axis] == last)) reach[n] = radius[n], front.push({radius[n], n});
+  }
+  while (!front.empty()) {
+    const auto [bottleneck, n] = front.top();
+    front.pop();
+    if (bottleneck < reach[n]) continue;  // a wider path came first
+    for (int d = 0; d < lattice.dimension; ++d)
+      for (int step : {-1, 1}) {
+        const long long m = step_along(lattice, n, d, step, lattice.periodic[d] && d != inlet.axis);
+        if (m < 0 || !lattice.fluid[m]) continue;
+        const double through = std::min(bottleneck, radius[m]);
+        if (through > reach[m]) reach[m] = through, front.push({through, m});
+      }
+  }
+  return reach;
+}
+
+// Adds to `drained` the balls of radius r about the points whose reach is r or more.
+void add_balls(const DrainageLattice& lattice, const std::vector<double>& reach, double r, std::vector<char>& drained) {
+  std::vector<char> centre(reach.size(), 0);
+  for (size_t n = 0; n < reach.size(); ++n) centre[n] = lattice.fluid[n] && reach[n] >= r;
+  const auto to_centre = squared_distance_transform(lattice.shape, lattice.dimension, lattice.periodic, centre);
+  const double within = r * r * (1 + 1e-12);
+  for (size_t n = 0; n < reach.size(); ++n)
+    if (lattice.fluid[n] && to_centre[n] <= within) drained[n] = 1;
+}
+
+double largest_radius(const DrainageLattice& lattice, const std::vector<double>& radius) {
+  double largest = 0;
+  for (size_t n = 0; n < radius.size(); ++n)
+    if (lattice.fluid[n]) largest = std::max(largest, radius[n]);
+  // No solid at all: a ball as wide as the cell.
+  if (!std::isfinite(largest)) {
+    largest = 0;
+    for (int d = 0; d < lattice.dimension; ++d) largest = std::max(largest, 0.5 * double(lattice.shape[d]));
+  }
+  return largest;
+}
+
+// The radii of the drainage's steps, largest first: from the largest pore
+// radius down to half a spacing, at most kDrainageSteps + 1 of them and at
+// least a quarter of a spacing apart.
+std::vector<double> drainage_ladder(const DrainageLattice& lattice, const std::vector<double>& radius) {
+  constexpr int kDrainageSteps = 100;
+  const double largest = largest_radius(lattice, radius);
+  const double step = std::max(0.25, (largest - 0.5) / kDrainageSteps);
+  std::vector<double> ladder;
+  for (int k = 0; largest - k * step > 0.5; ++k) ladder.push_back(largest - k * step);
+  ladder.push_back(0.5);
+  return ladder;
+}
+
+}  // namespace
+
+std::vector<char> drained_points(const DrainageLattice& lattice, const std::vector<double>& radius, double r,
+                                 const DrainageInlet& inlet) {
+  const auto reach = reach_radius(lattice, radius, inlet);
+  std::vector<char> drained(radius.size(), 0);
+  for (double step : drainage_ladder(lattice, radius))
+    if (step > r) add_balls(lattice, reach, step, drained);
+  add_balls(lattice, reach, r, drained);
+  return drained;
+}
+
+double drained_saturation(const DrainageLattice& lattice, const std::vector<char>& drained) {
+  long long fluid = 0, filled = 0;
+  for (size_t n = 0; n < drained.size(); ++n) fluid += lattice.fluid[n] != 0, filled += drained[n] != 0;
+  return fluid > 0 ? static_cast<double>(filled) / static_cast<double>(fluid) : 0.0;
+}
+
+DrainageStep drain_to_saturation(const DrainageLattice& lattice, const std::vector<double>& radius,
+                                 double saturation, const DrainageInlet& inlet) {
+  const auto reach = reach_radius(lattice, radius, inlet);
+  std::vector<char> before(radius.size(), 0);  // drained at the ladder's step above
+  const auto ladder = drainage_ladder(lattice, radius);
+  double above = ladder.front() + 1;
+  for (double step : ladder) {
+    auto drained = before;
+    add_balls(lattice, reach, step, drained);
+    if (drained_saturation(lattice, drained) >= saturation) {
+      // Between this step and the one above, the largest radius that reaches it.
+      double lo = step, hi = above, at_lo = drained_saturation(lattice, drained);
+      while (hi - lo > 1e-3) {
+        const double mid = 0.5 * (lo + hi);
+        auto trial = before;
+        add_balls(lattice, reach, mid, trial);
+        const double at_mid = drained_saturation(lattice, trial);
+        if (at_mid >= saturation)
+          lo = mid, at_lo = at_mid;
+        else
+          hi = mid;
+      }
+      return {lo, at_lo};
+    }
+    before.swap(drained);
+    above = step;
+  }
+  return {0.0, drained_saturation(lattice, before)};
+}
+
+std::vector<DrainageStep> drainage_curve(const DrainageLattice& lattice, const std::vector<double>& radius,
+                                         const DrainageInlet& inlet) {
+  const auto reach = reach_radius(lattice, radius, inlet);
+  std::vector<char> drained(radius.size(), 0);
+  std::vector<DrainageStep> curve;
+  for (double step : drainage_ladder(lattice, radius)) {
+    add_balls(lattice, reach, step, drained);
+    curve.push_back({step, drained_saturation(lattice, drained)});
+  }
+  return curve;
+}
+
+DrainagePlacement place_by_drainage(const PhaseConfig::Drainage& rule, const DrainageLattice& lattice, double dx) {
+  const DrainageInlet inlet{rule.inlet_axis, rule.inlet_anywhere};
+  const auto radius = pore_radius(lattice);
+  DrainagePlacement placed;
+  double r = rule.radius / dx;  // in spacings
+  if (rule.saturation > 0) {
+    const DrainageStep step = drain_to_saturation(lattice, radius, rule.saturation, inlet);
+    if (step.radius == 0) {
+      std::ostringstream msg;
+      msg << std::setprecision(6) << "Phases/Phase 1/Drainage/Saturation = " << rule.saturation
+          << " is not reached: drainage from the inlet fills at most " << step.saturation
+          << " of the fluid (the rest is pore space no path from the inlet reaches); lower it, or set Inlet";
+      throw std::invalid_argument(msg.str());
+    }
+    r = step.radius;
+  }
+  placed.radius = r * dx;
+  placed.drained = drained_points(lattice, radius, r, inlet);
+  placed.saturation = drained_saturation(lattice, placed.drained);
+  const double pi = std::acos(-1.0);
+  placed.curvature = (lattice.dimension - 1) * std::cos(rule.contact_angle * pi / 180) / placed.radius;
+  placed.capillary_pressure = rule.surface_tension * placed.curvature;
+  placed.curve = drainage_curve(lattice, radius, inlet);
+  for (auto& step : placed.curve) step.radius *= dx;
+  return placed;
+}
+
+}  // namespace poresph
