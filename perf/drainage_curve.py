@@ -8,13 +8,15 @@ relative permeability against the single-phase k of the same spacing.
 
     perf/drainage_curve.py --scene problem3/problem3.xml --length 0.1 \\
         --spacings 0.002 0.001 0.0005 --saturations 0.65 0.75 0.85 0.95 \\
-        [--viscosity-ratio 2] [--set "Permeability/Tensor=false" ...] [--out build/drainage] [--figure F.png]
+        [--viscosity-ratio 2] [--set "Permeability/Tensor=false" ...] [--out build/drainage] [--figure F.png] \
+        [--pictures P.png]
 
 The capillary pressure is given as L kappa = L (dim - 1) cos(theta) / r
 (theta = 0): Pc L / sigma, the cell's side L over the balls' radius. Phase 1
 is the non-wetting phase, entering from the cell's faces across x. Prints
 the Markdown tables of docs/validation.md; --figure draws the curves and
-the k_r points.
+the k_r points, --pictures the phases at each saturation of the finest
+spacing (in 3D on the slice through the cell's middle across z).
 """
 import argparse
 import csv
@@ -38,6 +40,7 @@ def main():
     parser.add_argument("--ranks", type=int, default=None)
     parser.add_argument("--out", default="build/drainage")
     parser.add_argument("--figure", default=None)
+    parser.add_argument("--pictures", default=None)
     args = parser.parse_args()
     common = ["Solver/Method=steady"] + args.set
     curves, points = {}, []
@@ -51,7 +54,8 @@ def main():
             start = time.monotonic()
             summary = run_poresph(args.build, args.scene, directory, common + spacing + [
                 "Phases/Count=2", f"Phases/Phase 1/Kinematic Viscosity={NU * args.viscosity_ratio!r}",
-                f"Phases/Phase 1/Drainage/Saturation={target!r}", f"Phases/Single Phase Permeability={k!r}"],
+                f"Phases/Phase 1/Drainage/Saturation={target!r}", f"Phases/Single Phase Permeability={k!r}",
+                "Output/Final Particles CSV=true"],
                 ranks=args.ranks)
             seconds = time.monotonic() - start
             if dx not in curves:
@@ -95,6 +99,32 @@ def main():
         right.legend(fontsize=7)
         fig.tight_layout()
         fig.savefig(args.figure, dpi=100)
+    if args.pictures:
+        draw_phases(args, points)
+
+
+def draw_phases(args, points):
+    """The phases of the finest spacing's runs, one panel a saturation."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    dx = min(args.spacings)
+    mine = [p for p in points if p["dx"] == dx]
+    fig, axes = plt.subplots(1, len(mine), figsize=(3.2 * len(mine), 3.4))
+    for ax, p in zip(np.atleast_1d(axes), mine):
+        rows = np.genfromtxt(os.path.join(args.out, f"dx{dx:g}-s{p['target']:g}", "particles.csv"), delimiter=",",
+                             names=True)
+        if "z" in rows.dtype.names:
+            rows = rows[np.abs(rows["z"] - args.length / 2) < 0.5 * dx + 1e-12]
+        colour = np.where(rows["kind"] != 0, 2, rows["phase"])
+        ax.scatter(rows["x"], rows["y"], c=colour, s=max(0.5, 0.05 * args.length / dx), marker="s",
+                   cmap="viridis", vmin=0, vmax=2, linewidths=0)
+        ax.set_aspect("equal")
+        ax.set_xticks([]), ax.set_yticks([])
+        ax.set_title(f"S_nw = {p['saturation']:.2f}, Pc L/sigma = {p['pc']:.1f}", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(args.pictures, dpi=100)
 
 
 if __name__ == "__main__":

@@ -377,6 +377,77 @@ TEST(TwoPhase, DrainageOfProblemThreeReachesItsTarget) {
   EXPECT_DOUBLE_EQ(last_radius, 0.5 * 0.002);
 }
 
+// Entry pressure of a throat: a 2D image (one particle a voxel) of a
+// channel open to the cell's faces across x, 38 voxels wide, and below it
+// a chamber that a throat w = 30 voxels wide and 20 long is the only way
+// into (a ball wider than the throat bulges into it, not through). By the
+// drainage rule the non-wetting phase enters the chamber at Pc =
+// 2 sigma cos(theta) / w (a ball of radius w / 2): at 5 % below that
+// pressure (r = 1.05 w / 2) the chamber stays wetting, at 5 % above it
+// (r = 0.95 w / 2) phase 1 fills it. The lattice's widest ball in the
+// throat is w / 2 - dx / 2 (3.3 % below w / 2).
+TEST(TwoPhase, DrainageEntersAThroatAtItsCapillaryPressure) {
+  const long long nx = 120, ny = 100, w = 30;
+  const double voxel = 1e-4;
+  std::vector<char> voxels(static_cast<size_t>(nx * ny), 1);
+  for (long long j = 0; j < ny; ++j)
+    for (long long i = 0; i < nx; ++i) {
+      const bool channel = j >= 60 && j < 98, throat = j >= 40 && j < 60 && i >= 45 && i < 45 + w,
+                 chamber = j >= 2 && j < 40 && i >= 20 && i < 100;
+      if (channel || throat || chamber) voxels[static_cast<size_t>(i + nx * j)] = 0;
+    }
+  const auto folder = testing::output_directory("drain-throat-image");
+  std::filesystem::create_directories(folder);
+  const std::string raw = (folder / "throat.raw").string();
+  std::ofstream(raw, std::ios::binary).write(voxels.data(), static_cast<std::streamsize>(voxels.size()));
+  // Phase 1 particles in the chamber, at ball radius `ratio` w / 2.
+  const auto in_chamber = [&](double ratio, const std::string& name) {
+    auto list = testing::minimal_scene();
+    list.sublist("Domain").set("Cell Size", array<double>({nx * voxel, ny * voxel}));
+    list.sublist("Fluid").set("Kinematic Viscosity", 1e-6);
+    list.sublist("Fluid").set("Body Force", array<double>({1e-4, 0.0}));
+    list.sublist("Discretization").set("Particle Spacing", voxel);
+    auto& image = list.sublist("Image");
+    image.set("File", raw);
+    image.set("Shape", array<int>({static_cast<int>(nx), static_cast<int>(ny)}));
+    image.set("Type", std::string("uint8"));
+    image.set("Solid Values", array<int>({1}));
+    image.set("Voxel Size", voxel);
+    auto& phases = list.sublist("Phases");
+    phases.set("Count", 2);
+    phases.sublist("Phase 1").set("Kinematic Viscosity", 1e-6);
+    phases.sublist("Phase 1").sublist("Drainage").set("Radius", ratio * 0.5 * w * voxel);
+    list.sublist("Run").set("Max Steps", 1);
+    list.sublist("Run").set("Progress", std::string("never"));
+    list.sublist("Output").set("Final Particles CSV", true);
+    validate_parameters(list);
+    const SceneConfig scene = scene_from_parameters(list, "");
+    RunOptions options;
+    options.output_dir = testing::output_directory(name).string();
+    std::filesystem::create_directories(options.output_dir);
+    options.progress_on_terminal = false;
+    options.parameters_xml = parameters_to_xml(list);
+    const RunReport report = run_scene(scene, options);
+    EXPECT_GT(report.drainage.saturation, 0.0);  // the channel drains at either radius
+    std::ifstream in(testing::output_directory(name) / "particles.csv");
+    std::string line;
+    std::getline(in, line);
+    long long chamber = 0, drained = 0;
+    while (std::getline(in, line)) {
+      std::replace(line.begin(), line.end(), ',', ' ');
+      std::istringstream row(line);
+      double id, kind, x, y;
+      row >> id >> kind >> x >> y;
+      const int phase = line.back() - '0';
+      if (kind == 0 && y < 40 * voxel) ++chamber, drained += phase == 1;
+    }
+    EXPECT_GT(chamber, 2500);
+    return drained;
+  };
+  EXPECT_EQ(in_chamber(1.05, "drain-throat-closed"), 0);
+  EXPECT_GT(in_chamber(0.95, "drain-throat-open"), 2000);  // of 3,040
+}
+
 // A disc between the lattice points holds no particle: refused when the
 // particles are made.
 TEST(TwoPhase, EmptyDiscIsRefused) {
