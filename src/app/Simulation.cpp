@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/ExecutionSpaces.hpp"
 #include "core/Math.hpp"
+#include "core/MemoryAvailable.hpp"
 #include "geometry/Grains.hpp"
 #include "geometry/Lattice.hpp"
 #include "parallel/RcbDecomposition.hpp"
@@ -314,15 +316,30 @@ long long Simulation<Dim, ExecSpace>::drainage_lattice_index(const double* x) co
 // Phase 1 by drainage (scene/Drainage.hpp): every process marks its fluid
 // particles' points on the whole lattice, the marks are joined, and each
 // process places the phase on the same lattice (so the same points on any
-// number of processes). It holds a byte and about 20 bytes of distances
-// per lattice point while it does.
+// number of processes). It holds about kDrainageBytesPerPoint a lattice
+// point while it does (flags, distances, the transform): refused up front
+// where the processes of this machine would not have that.
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::drain_phase_one() {
+  constexpr double kDrainageBytesPerPoint = 32;
   DrainageLattice lattice;
   lattice.dimension = Dim;
   for (int d = 0; d < Dim; ++d) {
     lattice.shape[d] = std::llround(scene_.cell_size[d] / scene_.particle_spacing);
     lattice.periodic[d] = scene_.periodic[d];
+  }
+  const int sharing = comm_.on_this_machine();
+  const double need = kDrainageBytesPerPoint * static_cast<double>(lattice.size()) * sharing;
+  const bool limited = scene_.memory_limit_bytes > 0;
+  const double available = limited ? scene_.memory_limit_bytes : memory_available_bytes();
+  if (need > available) {
+    std::ostringstream msg;
+    msg << std::setprecision(3) << "Phases/Phase 1/Drainage runs on the whole lattice on every process, about "
+        << kDrainageBytesPerPoint << " bytes a point: " << lattice.size() << " points on " << sharing
+        << " process(es) of this machine need " << need / 1e9 << " GB, and "
+        << (limited ? "Run/Memory Limit gives " : "the machine has ") << available / 1e9
+        << " GB available; use fewer processes per machine or a coarser Discretization/Particle Spacing";
+    throw std::invalid_argument(msg.str());
   }
   lattice.fluid.assign(static_cast<size_t>(lattice.size()), 0);
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
