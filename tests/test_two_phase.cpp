@@ -297,6 +297,18 @@ TEST(TwoPhase, BadDrainageIsRefusedByName) {
     drained(l, 0.5), l.sublist("Phases").sublist("Phase 1").set("Region Low", array<double>({0.0, 0.5}));
   });
   EXPECT_TRUE(has(m, "not two")) << m;
+  m = refusal([&](auto& l) {
+    drained(l, 0.5), l.sublist("Phases").sublist("Phase 1").set("Image Values", array<int>({2}));
+  });
+  EXPECT_TRUE(has(m, "not two")) << m;
+  // Image Values without an image.
+  m = refusal([&](auto& l) {
+    auto& second = l.sublist("Phases").sublist("Phase 1");
+    second.remove("Region Low");
+    second.remove("Region High");
+    second.set("Image Values", array<int>({2}));
+  });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Image Values names voxels of an image, and the scene has none")) << m;
   // An open cell: every ball fits.
   m = refusal([&](auto& l) {
     drained(l, 0.5), l.sublist("Domain").set("Periodic", array<int>({1, 1}));
@@ -446,6 +458,70 @@ TEST(TwoPhase, DrainageEntersAThroatAtItsCapillaryPressure) {
   };
   EXPECT_EQ(in_chamber(1.05, "drain-throat-closed"), 0);
   EXPECT_GT(in_chamber(0.95, "drain-throat-open"), 2000);  // of 3,040
+}
+
+// Phase 1 from a segmented image's labels (Phases/Phase 1/Image Values):
+// the layered channel drawn as an image of 10 x 52 voxels, one particle a
+// voxel, solid 12 rows thick (value 1) between the periodic copies, phase 0
+// (value 0) in the lower 20 rows of the channel and phase 1 (value 2,
+// ten times as viscous) in the upper 20. Each phase fills its half, and
+// the k_r of the steady flow, over the single-phase k of the same image,
+// are the layered solution's within 1 %.
+TEST(TwoPhase, ImageLabelsPlaceTheLayeredChannel) {
+  const long long nx = 10, ny = 52;
+  const double voxel = 2.5e-5, H = 40 * voxel, nu = 1e-6, ratio = 10, F = 2e-4;
+  std::vector<char> voxels(static_cast<size_t>(nx * ny));
+  for (long long j = 0; j < ny; ++j)
+    for (long long i = 0; i < nx; ++i)
+      voxels[static_cast<size_t>(i + nx * j)] = j < 6 || j >= 46 ? 1 : j < 26 ? 0 : 2;
+  const auto folder = testing::output_directory("image-labels");
+  std::filesystem::create_directories(folder);
+  const std::string raw = (folder / "layers.raw").string();
+  std::ofstream(raw, std::ios::binary).write(voxels.data(), static_cast<std::streamsize>(voxels.size()));
+  const auto run = [&](bool two, double k, const std::string& name) {
+    auto list = testing::minimal_scene();
+    list.sublist("Domain").set("Cell Size", array<double>({nx * voxel, ny * voxel}));
+    list.sublist("Fluid").set("Kinematic Viscosity", nu);
+    list.sublist("Fluid").set("Body Force", array<double>({F, 0.0}));
+    list.sublist("Discretization").set("Particle Spacing", voxel);
+    auto& image = list.sublist("Image");
+    image.set("File", raw);
+    image.set("Shape", array<int>({static_cast<int>(nx), static_cast<int>(ny)}));
+    image.set("Type", std::string("uint8"));
+    image.set("Solid Values", array<int>({1}));
+    image.set("Voxel Size", voxel);
+    if (two) {
+      auto& phases = list.sublist("Phases");
+      phases.set("Count", 2);
+      phases.set("Single Phase Permeability", k);
+      phases.sublist("Phase 1").set("Kinematic Viscosity", ratio * nu);
+      phases.sublist("Phase 1").set("Image Values", array<int>({2}));
+    }
+    list.sublist("Solver").set("Method", std::string("steady"));
+    list.sublist("Run").set("Progress", std::string("never"));
+    validate_parameters(list);
+    const SceneConfig scene = scene_from_parameters(list, "");
+    RunOptions options;
+    options.output_dir = testing::output_directory(name).string();
+    std::filesystem::create_directories(options.output_dir);
+    options.progress_on_terminal = false;
+    options.parameters_xml = parameters_to_xml(list);
+    return run_scene(scene, options);
+  };
+  const RunReport single = run(false, 0, "image-labels-single");
+  ASSERT_TRUE(single.solver.converged);
+  const double k = single.permeability[0][0];
+  const RunReport report = run(true, k, "image-labels-two");
+  ASSERT_TRUE(report.solver.converged);
+  ASSERT_EQ(report.phases.size(), 2u);
+  const LayeredChannel exact{H, 0.5 * H, 1000 * nu, 1000 * ratio * nu, 1000 * F};
+  const double expected[2] = {exact.lower_relative_permeability(), exact.upper_relative_permeability()};
+  for (int p = 0; p < 2; ++p) {
+    EXPECT_DOUBLE_EQ(report.phases[p].saturation, 0.5);
+    EXPECT_NEAR(report.phases[p].relative_permeability / expected[p], 1.0, 0.01) << "phase " << p;
+    std::printf("  phase %d: k_r = %.5f, layered solution %.5f\n", p, report.phases[p].relative_permeability,
+                expected[p]);
+  }
 }
 
 // A disc between the lattice points holds no particle: refused when the

@@ -271,13 +271,15 @@ void Simulation<Dim, ExecSpace>::place_phases() {
   auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);
   auto phase = Kokkos::create_mirror_view(particles_.phase);
   std::vector<long long> counts(scene_.phases.size(), 0);
-  const bool drained = scene_.phases[1].drained();
+  const bool drained = scene_.phases[1].drained(), labelled = scene_.phases[1].from_image();
   if (drained) drain_phase_one();
   for (int i = 0; i < owned; ++i) {
     double at[Dim];
     for (int d = 0; d < Dim; ++d) at[d] = x(i, d);
     if (kind(i) != kFluid)
       phase(i) = 0;
+    else if (labelled)
+      phase(i) = image_phase_one(at) ? 1 : 0;
     else
       phase(i) = drained ? drainage_.drained[drainage_lattice_index(at)] : phase_at(scene_, at);
     if (kind(i) == kFluid) ++counts[phase(i)];
@@ -287,7 +289,9 @@ void Simulation<Dim, ExecSpace>::place_phases() {
   for (size_t p = 1; p < counts.size(); ++p)
     if (comm_.sum(counts[p]) == 0) {
       std::ostringstream msg;
-      if (drained)
+      if (labelled)
+        msg << "Phases/Phase " << p << "/Image Values: no fluid particle lies in a voxel of these values";
+      else if (drained)
         msg << "Phases/Phase " << p << "/Drainage/Radius = " << drainage_.radius
             << ": no ball of that radius reaches from the inlet into the pore space, so the phase holds no fluid "
                "particle";
@@ -299,6 +303,49 @@ void Simulation<Dim, ExecSpace>::place_phases() {
           << " (it lies between lattice points, or in a grain or a wall); enlarge it";
       throw std::invalid_argument(msg.str());
     }
+}
+
+// Whether the fluid particle at x is of phase 1 by the image's labels
+// (PhaseConfig::image_values): the voxel holding x (on a face, the one
+// above); in a solid voxel (the walls lie between voxels, smoothed), most
+// of the pore voxels of the 3^Dim block about it. Read from this
+// process's piece of the image, which holds its particles' voxels and a
+// halo about them.
+template <int Dim, class ExecSpace>
+bool Simulation<Dim, ExecSpace>::image_phase_one(const double* x) const {
+  const ImageConfig& image = scene_.image;
+  const VoxelImage& voxels = *image.voxels;
+  const auto wraps = image_field_periodic(image, scene_.periodic);
+  const auto& values = scene_.phases[1].image_values;
+  const auto& solid = image.solid_values;
+  long long centre[3] = {0, 0, 0};
+  for (int d = 0; d < Dim; ++d) centre[d] = static_cast<long long>(std::floor(x[d] / image.voxel_size));
+  // -1 solid, 0 phase 0, 1 phase 1, of the voxel `offset` from the centre's.
+  auto label = [&](const long long (&offset)[3]) {
+    long long at[3] = {0, 0, 0};
+    for (int d = 0; d < Dim; ++d) {
+      long long i = centre[d] + offset[d] - image.piece_first[d];
+      if (wraps[d])
+        i = ((i % voxels.shape[d]) + voxels.shape[d]) % voxels.shape[d];
+      else
+        i = std::clamp(i, 0LL, voxels.shape[d] - 1);
+      at[d] = i;
+    }
+    const int value = voxels.at(at[0], at[1], at[2]);
+    if (std::find(solid.begin(), solid.end(), value) != solid.end()) return -1;
+    return std::find(values.begin(), values.end(), value) != values.end() ? 1 : 0;
+  };
+  const int own = label({0, 0, 0});
+  if (own >= 0) return own == 1;
+  int votes[2] = {0, 0};
+  const int reach[3] = {1, Dim > 1 ? 1 : 0, Dim > 2 ? 1 : 0};
+  for (long long k = -reach[2]; k <= reach[2]; ++k)
+    for (long long j = -reach[1]; j <= reach[1]; ++j)
+      for (long long i = -reach[0]; i <= reach[0]; ++i) {
+        const int l = label({i, j, k});
+        if (l >= 0) ++votes[l];
+      }
+  return votes[1] > votes[0];
 }
 
 // A fluid particle's lattice point as an index of the whole lattice

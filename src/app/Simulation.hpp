@@ -298,6 +298,7 @@ class Simulation {
   void place_phases();           // at set-up: each particle's phase from its lattice point
   void drain_phase_one();        // at set-up: phase 1's points by drainage, on the whole lattice
   long long drainage_lattice_index(const double* x) const;
+  bool image_phase_one(const double* x) const;  // phase 1 by the image's labels
   void place_surface_tension();  // at set-up: each fluid particle's surface-tension acceleration
   void add_surface_tension();    // in the finish: that acceleration into dv/dt
   void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity

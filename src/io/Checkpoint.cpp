@@ -93,7 +93,11 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
     const PhaseConfig& second = scene.phases[1];
     entries.emplace_back("Phases/Count", std::to_string(scene.phases.size()));
     entries.emplace_back("Phases/Phase 1/Kinematic Viscosity", number(second.kinematic_viscosity));
-    if (second.drained()) {
+    if (second.from_image()) {
+      std::string values;
+      for (int v : second.image_values) values += (values.empty() ? "" : " ") + std::to_string(v);
+      entries.emplace_back("Phases/Phase 1/Image Values", values);
+    } else if (second.drained()) {
       const auto& rule = second.drainage;
       entries.emplace_back("Phases/Phase 1/Drainage/Saturation", number(rule.saturation));
       entries.emplace_back("Phases/Phase 1/Drainage/Radius", number(rule.radius));

@@ -199,6 +199,12 @@ RCP<ParameterList> make_valid_parameters() {
           "periodic faces, to the nearest image) is of this phase.",
           reals_in(-kHuge, kHuge));
     p.set("Region Radius", 0.0, "Radius of the disc or sphere (m), > 0 with Region Centre.", real_in(-kHuge, kHuge));
+    p.set("Image Values", Array<int>(),
+          "Instead of a region: the values of the image's voxels that this phase fills (Image, a segmented "
+          "image of the solid and two fluids; none of them a Solid Value). A fluid particle takes the phase "
+          "of the voxel holding its lattice point (on a face between voxels, the one above); one inside a "
+          "solid voxel (the walls lie between voxels, smoothed) that of most pore voxels about it.",
+          ints_in(0, 65535));
     auto& drainage = p.sublist(
         "Drainage", false,
         "Instead of a region: the phase is the non-wetting fluid placed by quasi-static drainage, the "

@@ -283,8 +283,11 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const double contact_angle = drainage.get<double>("Contact Angle");
   const double drain_sigma = drainage.get<double>("Surface Tension");
   const bool drained = drain_saturation != 0 || drain_radius != 0;
+  const auto image_values = second.get<Array<int>>("Image Values");
+  const bool labelled = !image_values.empty();
   if (count == 1) {
     if (nu != 0 || density != 0 || !low.empty() || !high.empty() || !centre.empty() || radius != 0 || drained ||
+        labelled ||
         second.get<std::string>("Name") != "phase 1")
       fail("Phases/Phase 1 is given, but Phases/Count = 1 (the Fluid sublist's fluid alone): set Phases/Count = 2, "
            "or leave Phases/Phase 1 out");
@@ -307,12 +310,12 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
     fail(msg.str());
   }
   const bool box = !low.empty() || !high.empty(), round = !centre.empty() || radius != 0;
-  if (box + round + drained > 1)
+  if (box + round + drained + labelled > 1)
     fail("Phases/Phase 1: give its region one way: a box (Region Low, Region High), a disc/sphere (Region "
-         "Centre, Region Radius) or the Drainage sublist's rule, not two");
-  if (!box && !round && !drained)
+         "Centre, Region Radius), the Drainage sublist's rule or Image Values, not two");
+  if (!box && !round && !drained && !labelled)
     fail("Phases/Phase 1 needs its region with Phases/Count = 2: a box (Region Low, Region High), a "
-         "disc/sphere (Region Centre, Region Radius), or Drainage/Saturation or Drainage/Radius");
+         "disc/sphere (Region Centre, Region Radius), Drainage/Saturation or Drainage/Radius, or Image Values");
   PhaseConfig outside, inside;
   outside.name = "fluid";
   outside.density = scene.density;
@@ -320,7 +323,16 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   inside.name = second.get<std::string>("Name");
   inside.density = scene.density;
   inside.kinematic_viscosity = nu;
-  if (drained) {
+  if (labelled) {
+    if (!scene.image.voxels)
+      fail("Phases/Phase 1/Image Values names voxels of an image, and the scene has none (Image/File)");
+    for (int value : image_values)
+      if (std::find(scene.image.solid_values.begin(), scene.image.solid_values.end(), value) !=
+          scene.image.solid_values.end())
+        fail("Phases/Phase 1/Image Values: " + std::to_string(value) +
+             " is also in Image/Solid Values: a voxel is solid or fluid, not both");
+    inside.image_values.assign(image_values.begin(), image_values.end());
+  } else if (drained) {
     auto& rule = inside.drainage;
     std::ostringstream msg;
     msg << std::setprecision(10);

@@ -82,6 +82,10 @@ struct PhaseConfig {
     double surface_tension = 0;  // N/m, for the capillary pressure reported; 0: not reported
   } drainage;
   bool drained() const { return drainage.saturation > 0 || drainage.radius > 0; }
+  // Instead of a region: the image's pore voxels of these values (a
+  // segmented image of the solid and two fluids).
+  std::vector<int> image_values;
+  bool from_image() const { return !image_values.empty(); }
 };
 
 // How the surface tension's colour function is made (Phases/Colour, physics/SurfaceTension.hpp).

@@ -110,6 +110,37 @@ check(f"2D mirrored on three processes: k after 30 steps as on one to 1e-12 of k
       bool(k) and k.keys() == k_whole.keys() and
       all(abs(k[c] - k_whole[c]) <= 1e-12 * abs(k_whole["kxx"]) for c in k_whole), str(k))
 
+# A segmented image of the solid and two fluids (Phases/Phase 1/Image Values): the 3D blobs' pore
+# voxels in blocks of 4 alternately of value 0 and 2, on one process and on four, give every particle
+# the same phase.
+i, j, k = np.indices(solid.shape)
+labels = np.where(solid, 1, np.where((i // 4 + j // 4 + k // 4) % 2 == 1, 2, 0)).astype(np.uint8)
+np.ascontiguousarray(labels.transpose((2, 1, 0))).tofile("labels.raw")
+with open("labels.xml", "w") as f:
+    f.write(blobs.scene_xml("labels.raw", "labels.xml", [40, 32, 24], 1e-3, 1e-3, "labels"))
+two_fluids = ["Run/Max Steps=2", "Permeability/Steady Tolerance=0", "Phases/Count=2",
+              "Phases/Phase 1/Kinematic Viscosity=2e-6", "Phases/Phase 1/Image Values={2}",
+              "Output/Final Particles CSV=true"]
+
+
+def particle_phases(out):
+    rows = np.genfromtxt(os.path.join(out, "particles.csv"), delimiter=",", names=True)
+    return dict(zip(rows["id"].astype(int), rows["phase"].astype(int)))
+
+
+done, whole = run(1, "labels.xml", "labels-whole", *two_fluids)
+done4, pieces = run(4, "labels.xml", "labels-pieces", *two_fluids)
+check("labelled phases on one and four processes run", done.returncode == 0 and done4.returncode == 0)
+if done.returncode == 0 and done4.returncode == 0:
+    a, b = particle_phases("labels-whole"), particle_phases("labels-pieces")
+    share = whole["phases"][1]["saturation"]
+    check(f"labelled phases on four processes as on one (phase 1 on {share:.3f} of the fluid)",
+          a == b and 0.3 < share < 0.7, f"{sum(a[n] != b.get(n) for n in a)} particles differ")
+    pore = labels != 1
+    voxel_share = np.count_nonzero(labels == 2) / np.count_nonzero(pore)
+    check(f"phase 1's saturation near its voxels' share of the pore ({voxel_share:.3f})",
+          abs(share - voxel_share) < 0.03, str(share))
+
 # A volume whose walls need more than one process's address space holds, and its pieces less:
 # 384 x 192 x 192 voxels (14 M), 40 bytes a voxel to make the walls, about 570 MB on one
 # process; at 8 voxels a spacing (27,648 lattice points) each of two processes reads
