@@ -340,6 +340,12 @@ TEST(TwoPhase, DrainageFillsAChannelUpToItsHalfWidth) {
       [&] { run_input("two_phase/layered_poiseuille.xml", by_radius(19.6 * dx), "drain-channel-narrow"); });
   EXPECT_NE(m.find("Phases/Phase 1/Drainage/Radius"), std::string::npos) << m;
   EXPECT_NE(m.find("no ball of that radius reaches from the inlet"), std::string::npos) << m;
+  EXPECT_NE(m.find("make it smaller"), std::string::npos) << m;
+  // Below half a spacing the lattice has no smaller ball: said, and placed as at half a spacing.
+  const RunReport small = run_input("two_phase/layered_poiseuille.xml", by_radius(0.4 * dx), "drain-channel-small");
+  EXPECT_DOUBLE_EQ(small.drainage.saturation, 1.0);
+  ASSERT_FALSE(small.warnings.empty());
+  EXPECT_NE(small.warnings[0].find("is below half a particle spacing"), std::string::npos) << small.warnings[0];
 }
 
 // Problem III at a coarse spacing drained to half its pore space: the

@@ -289,18 +289,23 @@ void Simulation<Dim, ExecSpace>::place_phases() {
   for (size_t p = 1; p < counts.size(); ++p)
     if (comm_.sum(counts[p]) == 0) {
       std::ostringstream msg;
-      if (labelled)
+      if (labelled) {
         msg << "Phases/Phase " << p << "/Image Values: no fluid particle lies in a voxel of these values";
-      else if (drained)
+      } else if (drained) {
+        double widest = 0;  // the largest radius at which a ball enters
+        for (const auto& step : drainage_.curve)
+          if (step.saturation > 0) widest = std::max(widest, step.radius);
         msg << "Phases/Phase " << p << "/Drainage/Radius = " << drainage_.radius
             << ": no ball of that radius reaches from the inlet into the pore space, so the phase holds no fluid "
-               "particle";
-      else if (scene_.phases[p].round())
-        msg << "Phases/Phase " << p << "/Region Centre and Region Radius: the disc (sphere) holds no fluid particle";
-      else
-        msg << "Phases/Phase " << p << "/Region Low and Region High: the box holds no fluid particle";
-      msg << " at Discretization/Particle Spacing = " << scene_.particle_spacing
-          << " (it lies between lattice points, or in a grain or a wall); enlarge it";
+               "particle (the widest that enters has radius "
+            << widest << "); make it smaller";
+      } else {
+        msg << "Phases/Phase " << p
+            << (scene_.phases[p].round() ? "/Region Centre and Region Radius: the disc (sphere)"
+                                         : "/Region Low and Region High: the box")
+            << " holds no fluid particle at Discretization/Particle Spacing = " << scene_.particle_spacing
+            << " (it lies between lattice points, or in a grain or a wall); enlarge it";
+      }
       throw std::invalid_argument(msg.str());
     }
 }

@@ -352,6 +352,14 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
     else if (inlet != "anywhere" && inlet[0] - 'x' >= dim)
       msg << "Phases/Phase 1/Drainage/Inlet = '" << inlet << "' names an axis the " << dim << "D cell has not";
     if (!msg.str().empty()) fail(msg.str());
+    if (drain_radius > 0 && drain_radius < 0.5 * scene.particle_spacing) {
+      std::ostringstream note;
+      note << std::setprecision(6) << "Phases/Phase 1/Drainage/Radius = " << drain_radius
+           << " is below half a particle spacing (" << 0.5 * scene.particle_spacing
+           << "), the smallest ball the lattice resolves: phase 1 is placed as at that radius (every fluid "
+              "particle the inlet reaches), and the capillary pressure reported is that of the radius given";
+      scene.warnings.push_back(note.str());
+    }
     rule.saturation = drain_saturation;
     rule.radius = drain_radius;
     rule.inlet_anywhere = inlet == "anywhere";
