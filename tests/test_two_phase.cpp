@@ -336,6 +336,13 @@ TEST(TwoPhase, DrainageFillsAChannelUpToItsHalfWidth) {
   EXPECT_DOUBLE_EQ(full.phases[1].saturation, 1.0);
   EXPECT_NEAR(full.drainage.capillary_pressure, 0.02 / (19.5 * dx), 1e-9);
   EXPECT_EQ(full.drainage.inlet, "x");
+  // A contact angle enters the pressure only: 2D, Pc = sigma cos(theta) / r.
+  auto at_60 = by_radius(19.5 * dx);
+  at_60.push_back("Phases/Phase 1/Drainage/Contact Angle=60");
+  const RunReport wetting = run_input("two_phase/layered_poiseuille.xml", at_60, "drain-channel-60");
+  EXPECT_DOUBLE_EQ(wetting.drainage.saturation, 1.0);
+  EXPECT_NEAR(wetting.drainage.capillary_pressure / full.drainage.capillary_pressure, 0.5, 1e-12);
+  EXPECT_EQ(wetting.drainage.contact_angle, 60.0);
   const std::string m = testing::error_of<std::exception>(
       [&] { run_input("two_phase/layered_poiseuille.xml", by_radius(19.6 * dx), "drain-channel-narrow"); });
   EXPECT_NE(m.find("Phases/Phase 1/Drainage/Radius"), std::string::npos) << m;
