@@ -402,6 +402,42 @@ TEST(TwoPhase, DrainageOfProblemThreeReachesItsTarget) {
   EXPECT_DOUBLE_EQ(last_radius, 0.5 * 0.002);
 }
 
+// A 2D scene of an nx x ny image of `voxels` (values x fastest; 1 solid),
+// written to the test's folder `name`, one particle a voxel of `voxel` m,
+// nu and F along x.
+Teuchos::ParameterList image_scene_list(const std::vector<char>& voxels, long long nx, long long ny, double voxel,
+                                        double nu, double F, const std::string& name) {
+  const auto folder = testing::output_directory(name);
+  std::filesystem::create_directories(folder);
+  const std::string raw = (folder / "image.raw").string();
+  std::ofstream(raw, std::ios::binary).write(voxels.data(), static_cast<std::streamsize>(voxels.size()));
+  auto list = testing::minimal_scene();
+  list.sublist("Domain").set("Cell Size", array<double>({nx * voxel, ny * voxel}));
+  list.sublist("Fluid").set("Kinematic Viscosity", nu);
+  list.sublist("Fluid").set("Body Force", array<double>({F, 0.0}));
+  list.sublist("Discretization").set("Particle Spacing", voxel);
+  auto& image = list.sublist("Image");
+  image.set("File", raw);
+  image.set("Shape", array<int>({static_cast<int>(nx), static_cast<int>(ny)}));
+  image.set("Type", std::string("uint8"));
+  image.set("Solid Values", array<int>({1}));
+  image.set("Voxel Size", voxel);
+  list.sublist("Run").set("Progress", std::string("never"));
+  return list;
+}
+
+// Runs a parameter list as poresph would, into the test folder `name`.
+RunReport run_list(Teuchos::ParameterList list, const std::string& name) {
+  validate_parameters(list);
+  const SceneConfig scene = scene_from_parameters(list, "");
+  RunOptions options;
+  options.output_dir = testing::output_directory(name).string();
+  std::filesystem::create_directories(options.output_dir);
+  options.progress_on_terminal = false;
+  options.parameters_xml = parameters_to_xml(list);
+  return run_scene(scene, options);
+}
+
 // Entry pressure of a throat: a 2D image (one particle a voxel) of a
 // channel open to the cell's faces across x, 38 voxels wide, and below it
 // a chamber that a throat w = 30 voxels wide and 20 long is the only way
@@ -421,38 +457,16 @@ TEST(TwoPhase, DrainageEntersAThroatAtItsCapillaryPressure) {
                  chamber = j >= 2 && j < 40 && i >= 20 && i < 100;
       if (channel || throat || chamber) voxels[static_cast<size_t>(i + nx * j)] = 0;
     }
-  const auto folder = testing::output_directory("drain-throat-image");
-  std::filesystem::create_directories(folder);
-  const std::string raw = (folder / "throat.raw").string();
-  std::ofstream(raw, std::ios::binary).write(voxels.data(), static_cast<std::streamsize>(voxels.size()));
   // Phase 1 particles in the chamber, at ball radius `ratio` w / 2.
   const auto in_chamber = [&](double ratio, const std::string& name) {
-    auto list = testing::minimal_scene();
-    list.sublist("Domain").set("Cell Size", array<double>({nx * voxel, ny * voxel}));
-    list.sublist("Fluid").set("Kinematic Viscosity", 1e-6);
-    list.sublist("Fluid").set("Body Force", array<double>({1e-4, 0.0}));
-    list.sublist("Discretization").set("Particle Spacing", voxel);
-    auto& image = list.sublist("Image");
-    image.set("File", raw);
-    image.set("Shape", array<int>({static_cast<int>(nx), static_cast<int>(ny)}));
-    image.set("Type", std::string("uint8"));
-    image.set("Solid Values", array<int>({1}));
-    image.set("Voxel Size", voxel);
+    auto list = image_scene_list(voxels, nx, ny, voxel, 1e-6, 1e-4, "drain-throat-image");
     auto& phases = list.sublist("Phases");
     phases.set("Count", 2);
     phases.sublist("Phase 1").set("Kinematic Viscosity", 1e-6);
     phases.sublist("Phase 1").sublist("Drainage").set("Radius", ratio * 0.5 * w * voxel);
     list.sublist("Run").set("Max Steps", 1);
-    list.sublist("Run").set("Progress", std::string("never"));
     list.sublist("Output").set("Final Particles CSV", true);
-    validate_parameters(list);
-    const SceneConfig scene = scene_from_parameters(list, "");
-    RunOptions options;
-    options.output_dir = testing::output_directory(name).string();
-    std::filesystem::create_directories(options.output_dir);
-    options.progress_on_terminal = false;
-    options.parameters_xml = parameters_to_xml(list);
-    const RunReport report = run_scene(scene, options);
+    const RunReport report = run_list(list, name);
     EXPECT_GT(report.drainage.saturation, 0.0);  // the channel drains at either radius
     std::ifstream in(testing::output_directory(name) / "particles.csv");
     std::string line;
@@ -487,22 +501,8 @@ TEST(TwoPhase, ImageLabelsPlaceTheLayeredChannel) {
   for (long long j = 0; j < ny; ++j)
     for (long long i = 0; i < nx; ++i)
       voxels[static_cast<size_t>(i + nx * j)] = j < 6 || j >= 46 ? 1 : j < 26 ? 0 : 2;
-  const auto folder = testing::output_directory("image-labels");
-  std::filesystem::create_directories(folder);
-  const std::string raw = (folder / "layers.raw").string();
-  std::ofstream(raw, std::ios::binary).write(voxels.data(), static_cast<std::streamsize>(voxels.size()));
   const auto run = [&](bool two, double k, const std::string& name) {
-    auto list = testing::minimal_scene();
-    list.sublist("Domain").set("Cell Size", array<double>({nx * voxel, ny * voxel}));
-    list.sublist("Fluid").set("Kinematic Viscosity", nu);
-    list.sublist("Fluid").set("Body Force", array<double>({F, 0.0}));
-    list.sublist("Discretization").set("Particle Spacing", voxel);
-    auto& image = list.sublist("Image");
-    image.set("File", raw);
-    image.set("Shape", array<int>({static_cast<int>(nx), static_cast<int>(ny)}));
-    image.set("Type", std::string("uint8"));
-    image.set("Solid Values", array<int>({1}));
-    image.set("Voxel Size", voxel);
+    auto list = image_scene_list(voxels, nx, ny, voxel, nu, F, "image-labels");
     if (two) {
       auto& phases = list.sublist("Phases");
       phases.set("Count", 2);
@@ -511,15 +511,7 @@ TEST(TwoPhase, ImageLabelsPlaceTheLayeredChannel) {
       phases.sublist("Phase 1").set("Image Values", array<int>({2}));
     }
     list.sublist("Solver").set("Method", std::string("steady"));
-    list.sublist("Run").set("Progress", std::string("never"));
-    validate_parameters(list);
-    const SceneConfig scene = scene_from_parameters(list, "");
-    RunOptions options;
-    options.output_dir = testing::output_directory(name).string();
-    std::filesystem::create_directories(options.output_dir);
-    options.progress_on_terminal = false;
-    options.parameters_xml = parameters_to_xml(list);
-    return run_scene(scene, options);
+    return run_list(list, name);
   };
   const RunReport single = run(false, 0, "image-labels-single");
   ASSERT_TRUE(single.solver.converged);
