@@ -1,12 +1,13 @@
 #include "scene/Drainage.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iomanip>
 #include <queue>
-#include <utility>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "geometry/DistanceTransform.hpp"
 
