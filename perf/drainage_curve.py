@@ -9,7 +9,7 @@ relative permeability against the single-phase k of the same spacing.
     perf/drainage_curve.py --scene problem3/problem3.xml --length 0.1 \\
         --spacings 0.002 0.001 0.0005 --saturations 0.65 0.75 0.85 0.95 \\
         [--viscosity-ratio 2] [--set "Permeability/Tensor=false" ...] [--out build/drainage] [--figure F.png] \
-        [--pictures P.png]
+        [--pictures P.png] [--trapping]
 
 The capillary pressure is given as L kappa = L (dim - 1) cos(theta) / r
 (theta = 0): Pc L / sigma, the cell's side L over the balls' radius. Phase 1
@@ -39,10 +39,12 @@ def main():
     parser.add_argument("--set", action="append", default=[], help="more --set settings for every run")
     parser.add_argument("--ranks", type=int, default=None)
     parser.add_argument("--out", default="build/drainage")
+    parser.add_argument("--trapping", action="store_true", help="Drainage/Trapping = true")
     parser.add_argument("--figure", default=None)
     parser.add_argument("--pictures", default=None)
     args = parser.parse_args()
     common = ["Solver/Method=steady"] + args.set
+    rule = ["Phases/Phase 1/Drainage/Trapping=true"] if args.trapping else []
     curves, points = {}, []
     for dx in args.spacings:
         spacing = [f"Discretization/Particle Spacing={dx!r}"]
@@ -55,7 +57,7 @@ def main():
             summary = run_poresph(args.build, args.scene, directory, common + spacing + [
                 "Phases/Count=2", f"Phases/Phase 1/Kinematic Viscosity={NU * args.viscosity_ratio!r}",
                 f"Phases/Phase 1/Drainage/Saturation={target!r}", f"Phases/Single Phase Permeability={k!r}",
-                "Output/Final Particles CSV=true"],
+                "Output/Final Particles CSV=true"] + rule,
                 ranks=args.ranks)
             seconds = time.monotonic() - start
             if dx not in curves:
@@ -74,12 +76,12 @@ def main():
               f"{p['radius']:.2f} | {p['krw']:.4f} | {p['krn']:.4f} | {p['k']:.4e} | {p['seconds']:.1f}"
               f"{'' if p['converged'] else ' (not converged)'} |")
     print()
-    print("| spacing (L) | breakthrough Pc L / sigma | S_nw there | Pc L / sigma at S_nw = 0.9 |")
-    print("|---|---|---|---|")
+    print("| spacing (L) | breakthrough Pc L / sigma | S_nw there | Pc L / sigma at S_nw = 0.9 | largest S_nw |")
+    print("|---|---|---|---|---|")
     for dx, curve in curves.items():
         entered = next((s, pc) for s, pc in curve if s > 0)
         at_90 = next((pc for s, pc in curve if s >= 0.9), float("nan"))
-        print(f"| {dx / args.length:g} | {entered[1]:.2f} | {entered[0]:.4f} | {at_90:.2f} |")
+        print(f"| {dx / args.length:g} | {entered[1]:.2f} | {entered[0]:.4f} | {at_90:.2f} | {curve[-1][0]:.4f} |")
     if args.figure:
         import matplotlib
         matplotlib.use("Agg")

@@ -81,6 +81,41 @@ TEST(Drainage, BodyBehindAThroatWaitsForTheThroatsRadius) {
   EXPECT_EQ(count(drained_points(lattice, radius, 1.0, DrainageInlet{1, false})), 0);
 }
 
+// Trapping: a chamber below a channel 15 rows wide, joined to it by a throat
+// 3 wide. The non-wetting phase enters at the low layer across x and the
+// wetting phase leaves at the high one. Once the channel has drained, the
+// chamber's wetting phase has no way out: with trapping it stays to the
+// end; without, the smallest balls fill it through the throat.
+TEST(Drainage, WettingPhaseCutOffFromTheOutletIsTrapped) {
+  const auto lattice = channel(60, 30, [](long long i, long long j) {
+    const bool main_channel = j >= 15, throat = (j == 13 || j == 14) && i >= 29 && i < 32,
+               chamber = j >= 2 && j < 13 && i >= 20 && i < 41;
+    return main_channel || throat || chamber;
+  });
+  const auto radius = pore_radius(lattice);
+  const long long fluid = count(lattice.fluid), pocket = 21 * 11 + 2 * 3;
+  auto in_pocket = [](const std::vector<char>& marks) {
+    long long n = 0;
+    for (long long j = 0; j < 15; ++j)
+      for (long long i = 0; i < 60; ++i) n += marks[static_cast<size_t>(i + 60 * j)] != 0;
+    return n;
+  };
+  const DrainageInlet free_flow{0, false, false}, trapping{0, false, true};
+  // The channel drains alike either way (r = 6: the chamber's ball cannot pass the throat).
+  EXPECT_EQ(count(drained_points(lattice, radius, 6.0, trapping)),
+            count(drained_points(lattice, radius, 6.0, free_flow)));
+  EXPECT_EQ(in_pocket(drained_points(lattice, radius, 6.0, trapping)), 0);
+  // To the end: the pocket drains without trapping, stays with it.
+  EXPECT_EQ(count(drained_points(lattice, radius, 0.5, free_flow)), fluid);
+  const auto trapped_end = drained_points(lattice, radius, 0.5, trapping);
+  EXPECT_EQ(in_pocket(trapped_end), 0);
+  EXPECT_EQ(count(trapped_end), fluid - pocket);
+  const auto curve = drainage_curve(lattice, radius, trapping);
+  EXPECT_NEAR(curve.back().saturation, double(fluid - pocket) / double(fluid), 1e-12);  // the residual
+  const DrainageStep all = drain_to_saturation(lattice, radius, 1.0, trapping);
+  EXPECT_EQ(all.radius, 0.0);  // not reached: the pocket is trapped
+}
+
 // The target's step: the largest radius reaching the saturation, which the
 // next larger radius does not reach; and a target no path reaches.
 TEST(Drainage, SaturationTargetIsTheFirstStepThatReachesIt) {

@@ -294,6 +294,11 @@ TEST(TwoPhase, BadDrainageIsRefusedByName) {
                                                   "Inlet", std::string("w")); });
   EXPECT_TRUE(has(m, "Inlet")) << m;
   m = refusal([&](auto& l) {
+    auto& rule = l.sublist("Phases").sublist("Phase 1").sublist("Drainage");
+    drained(l, 0.5), rule.set("Inlet", std::string("anywhere")), rule.set("Trapping", true);
+  });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage/Trapping needs an Inlet axis")) << m;
+  m = refusal([&](auto& l) {
     drained(l, 0.5), l.sublist("Phases").sublist("Phase 1").set("Region Low", array<double>({0.0, 0.5}));
   });
   EXPECT_TRUE(has(m, "not two")) << m;

@@ -103,6 +103,7 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
       entries.emplace_back("Phases/Phase 1/Drainage/Radius", number(rule.radius));
       entries.emplace_back("Phases/Phase 1/Drainage/Inlet",
                            rule.inlet_anywhere ? std::string("anywhere") : std::string(1, "xyz"[rule.inlet_axis]));
+      entries.emplace_back("Phases/Phase 1/Drainage/Trapping", rule.trapping ? "true" : "false");
     } else if (second.round()) {
       entries.emplace_back("Phases/Phase 1/Region Centre", list(second.region_centre.data(), D));
       entries.emplace_back("Phases/Phase 1/Region Radius", number(second.region_radius));

@@ -222,6 +222,11 @@ RCP<ParameterList> make_valid_parameters() {
                  "Where the phase enters: 'x', 'y' or 'z', the cell's face across that axis (a reservoir at x = 0, "
                  "which across a periodic face is also x = L), or 'anywhere' (every ball that fits is filled).",
                  one_of({"x", "y", "z", "anywhere"}));
+    drainage.set("Trapping", false,
+                 "Trap the wetting phase: the cell is a sample between two reservoirs, the non-wetting phase "
+                 "entering at the low side of the Inlet's face and the wetting phase leaving at its high side; "
+                 "wetting phase that no path of wetting phase joins to that outlet stays, and the balls of later "
+                 "steps fit in the pore space less it (its residual saturation). Not with Inlet = anywhere.");
     drainage.set("Contact Angle", 0.0,
                  "Static contact angle theta (degrees) measured through phase 0, the wetting fluid, in [0, 90): "
                  "it enters Pc only.",

@@ -59,6 +59,20 @@ std::vector<double> pore_radius(const DrainageLattice& lattice) {
 
 namespace {
 
+bool on_layer(const DrainageLattice& lattice, long long n, int axis, long long layer) {
+  const std::array<long long, 3> at{{n % lattice.shape[0], (n / lattice.shape[0]) % lattice.shape[1],
+                                     n / (lattice.shape[0] * lattice.shape[1])}};
+  return at[axis] == layer;
+}
+
+// Whether the non-wetting phase enters at point n: the lattice layers next
+// to the inlet's face (with trapping, the low one only: the high one is
+// the wetting phase's outlet).
+bool at_inlet(const DrainageLattice& lattice, long long n, const DrainageInlet& inlet) {
+  return on_layer(lattice, n, inlet.axis, 0) ||
+         (!inlet.trapping && on_layer(lattice, n, inlet.axis, lattice.shape[inlet.axis] - 1));
+}
+
 // Each fluid point's reach radius: the largest r at which it is the centre
 // of a ball that reaches it from the inlet through centres of balls of
 // radius r, i.e. the widest path to it, the least pore radius along the
@@ -67,14 +81,11 @@ namespace {
 std::vector<double> reach_radius(const DrainageLattice& lattice, const std::vector<double>& radius,
                                  const DrainageInlet& inlet) {
   if (inlet.anywhere) return radius;
-  const long long size = lattice.size(), last = lattice.shape[inlet.axis] - 1;
+  const long long size = lattice.size();
   std::vector<double> reach(radius.size(), 0.0);
   std::priority_queue<std::pair<double, long long>> front;
-  for (long long n = 0; n < size; ++n) {
-    const std::array<long long, 3> at{{n % lattice.shape[0], (n / lattice.shape[0]) % lattice.shape[1],
-                                       n / (lattice.shape[0] * lattice.shape[1])}};
-    if (lattice.fluid[n] && (at[inlet.axis] == 0 || at[inlet.axis] == last)) reach[n] = radius[n], front.push({radius[n], n});
-  }
+  for (long long n = 0; n < size; ++n)
+    if (lattice.fluid[n] && at_inlet(lattice, n, inlet)) reach[n] = radius[n], front.push({radius[n], n});
   while (!front.empty()) {
     const auto [bottleneck, n] = front.top();
     front.pop();
@@ -125,16 +136,70 @@ std::vector<double> drainage_ladder(const DrainageLattice& lattice, const std::v
   return ladder;
 }
 
+// The drainage as it goes, step by step: the points drained so far and,
+// with trapping, the wetting phase trapped so far. Trapped wetting phase
+// stays (it cannot leave, and the non-wetting phase cannot squeeze it), so
+// the balls of later steps fit in the pore space less it: the pore radius
+// and the reach are remade on that space whenever it shrinks.
+class DrainageSweep {
+ public:
+  DrainageSweep(const DrainageLattice& lattice, const std::vector<double>& radius, const DrainageInlet& inlet)
+      : open_(lattice), inlet_(inlet), reach_(reach_radius(lattice, radius, inlet)),
+        drained_(radius.size(), 0) {}
+
+  // The points drained once the balls of radius r are added (kept apart).
+  std::vector<char> with_balls(double r) const {
+    auto drained = drained_;
+    add_balls(open_, reach_, r, drained);
+    return drained;
+  }
+  // Adds them; with trapping, the wetting phase the outlet no longer reaches is trapped.
+  void advance(double r) {
+    drained_ = with_balls(r);
+    if (inlet_.trapping && trap()) reach_ = reach_radius(open_, pore_radius(open_), inlet_);
+  }
+  const std::vector<char>& drained() const { return drained_; }
+
+ private:
+  // The wetting phase (open, not drained) that no path of wetting phase
+  // joins to the outlet, the lattice layer at the high side of the inlet's
+  // face, leaves the open pore space. Whether any did.
+  bool trap() {
+    const long long size = open_.size(), outlet = open_.shape[inlet_.axis] - 1;
+    std::vector<char> joined(drained_.size(), 0);
+    std::vector<long long> front;
+    auto wetting = [&](long long n) { return open_.fluid[n] && !drained_[n]; };
+    for (long long n = 0; n < size; ++n)
+      if (wetting(n) && on_layer(open_, n, inlet_.axis, outlet)) joined[n] = 1, front.push_back(n);
+    while (!front.empty()) {
+      const long long n = front.back();
+      front.pop_back();
+      for (int d = 0; d < open_.dimension; ++d)
+        for (int step : {-1, 1}) {
+          const long long m = step_along(open_, n, d, step, open_.periodic[d] && d != inlet_.axis);
+          if (m >= 0 && wetting(m) && !joined[m]) joined[m] = 1, front.push_back(m);
+        }
+    }
+    bool trapped = false;
+    for (long long n = 0; n < size; ++n)
+      if (wetting(n) && !joined[n]) open_.fluid[n] = 0, trapped = true;
+    return trapped;
+  }
+
+  DrainageLattice open_;  // the fluid points not trapped
+  DrainageInlet inlet_;
+  std::vector<double> reach_;
+  std::vector<char> drained_;
+};
+
 }  // namespace
 
 std::vector<char> drained_points(const DrainageLattice& lattice, const std::vector<double>& radius, double r,
                                  const DrainageInlet& inlet) {
-  const auto reach = reach_radius(lattice, radius, inlet);
-  std::vector<char> drained(radius.size(), 0);
+  DrainageSweep sweep(lattice, radius, inlet);
   for (double step : drainage_ladder(lattice, radius))
-    if (step > r) add_balls(lattice, reach, step, drained);
-  add_balls(lattice, reach, r, drained);
-  return drained;
+    if (step > r) sweep.advance(step);
+  return sweep.with_balls(r);
 }
 
 double drained_saturation(const DrainageLattice& lattice, const std::vector<char>& drained) {
@@ -145,21 +210,16 @@ double drained_saturation(const DrainageLattice& lattice, const std::vector<char
 
 DrainageStep drain_to_saturation(const DrainageLattice& lattice, const std::vector<double>& radius,
                                  double saturation, const DrainageInlet& inlet) {
-  const auto reach = reach_radius(lattice, radius, inlet);
-  std::vector<char> before(radius.size(), 0);  // drained at the ladder's step above
+  DrainageSweep sweep(lattice, radius, inlet);
   const auto ladder = drainage_ladder(lattice, radius);
   double above = ladder.front() + 1;
   for (double step : ladder) {
-    auto drained = before;
-    add_balls(lattice, reach, step, drained);
-    if (drained_saturation(lattice, drained) >= saturation) {
+    const double at_step = drained_saturation(lattice, sweep.with_balls(step));
+    if (at_step >= saturation) {
       // Between this step and the one above, the largest radius that reaches it.
-      double lo = step, hi = above, at_lo = drained_saturation(lattice, drained);
+      double lo = step, hi = above, at_lo = at_step;
       while (hi - lo > 1e-3) {
-        const double mid = 0.5 * (lo + hi);
-        auto trial = before;
-        add_balls(lattice, reach, mid, trial);
-        const double at_mid = drained_saturation(lattice, trial);
+        const double mid = 0.5 * (lo + hi), at_mid = drained_saturation(lattice, sweep.with_balls(mid));
         if (at_mid >= saturation)
           lo = mid, at_lo = at_mid;
         else
@@ -167,26 +227,25 @@ DrainageStep drain_to_saturation(const DrainageLattice& lattice, const std::vect
       }
       return {lo, at_lo};
     }
-    before.swap(drained);
+    sweep.advance(step);
     above = step;
   }
-  return {0.0, drained_saturation(lattice, before)};
+  return {0.0, drained_saturation(lattice, sweep.drained())};
 }
 
 std::vector<DrainageStep> drainage_curve(const DrainageLattice& lattice, const std::vector<double>& radius,
                                          const DrainageInlet& inlet) {
-  const auto reach = reach_radius(lattice, radius, inlet);
-  std::vector<char> drained(radius.size(), 0);
+  DrainageSweep sweep(lattice, radius, inlet);
   std::vector<DrainageStep> curve;
   for (double step : drainage_ladder(lattice, radius)) {
-    add_balls(lattice, reach, step, drained);
-    curve.push_back({step, drained_saturation(lattice, drained)});
+    sweep.advance(step);
+    curve.push_back({step, drained_saturation(lattice, sweep.drained())});
   }
   return curve;
 }
 
 DrainagePlacement place_by_drainage(const PhaseConfig::Drainage& rule, const DrainageLattice& lattice, double dx) {
-  const DrainageInlet inlet{rule.inlet_axis, rule.inlet_anywhere};
+  const DrainageInlet inlet{rule.inlet_axis, rule.inlet_anywhere, rule.trapping};
   const auto radius = pore_radius(lattice);
   DrainagePlacement placed;
   double r = rule.radius / dx;  // in spacings
@@ -196,7 +255,8 @@ DrainagePlacement place_by_drainage(const PhaseConfig::Drainage& rule, const Dra
       std::ostringstream msg;
       msg << std::setprecision(6) << "Phases/Phase 1/Drainage/Saturation = " << rule.saturation
           << " is not reached: drainage from the inlet fills at most " << step.saturation
-          << " of the fluid (the rest is pore space no path from the inlet reaches); lower it, or set Inlet";
+          << " of the fluid (the rest is pore space no path from the inlet reaches"
+          << (rule.trapping ? ", or wetting phase trapped" : "") << "); lower it, or set Inlet";
       throw std::invalid_argument(msg.str());
     }
     r = step.radius;

@@ -35,10 +35,16 @@ struct DrainageLattice {
 
 // Where the non-wetting phase comes from: the cell's face across `axis`
 // (both lattice layers next to it: across a periodic face the two sides
-// meet there), or anywhere (every ball that fits is filled).
+// meet there), or anywhere (every ball that fits is filled). With
+// trapping, the cell is a sample between two reservoirs: the non-wetting
+// phase enters at the layer at the low side of that face, the wetting
+// phase leaves at the layer at its high side, and wetting phase that no
+// path of wetting phase joins to that outlet is trapped: it stays, and the
+// non-wetting phase never fills it (not with anywhere).
 struct DrainageInlet {
   int axis = 0;
   bool anywhere = false;
+  bool trapping = false;
 };
 
 // Each lattice point's pore radius in spacings (the largest ball about it

@@ -282,11 +282,13 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const std::string inlet = drainage.get<std::string>("Inlet");
   const double contact_angle = drainage.get<double>("Contact Angle");
   const double drain_sigma = drainage.get<double>("Surface Tension");
+  const bool trapping = drainage.get<bool>("Trapping");
   const bool drained = drain_saturation != 0 || drain_radius != 0;
   const auto image_values = second.get<Array<int>>("Image Values");
   const bool labelled = !image_values.empty();
   if (count == 1) {
     if (nu != 0 || density != 0 || !low.empty() || !high.empty() || !centre.empty() || radius != 0 || drained ||
+        trapping ||
         labelled ||
         second.get<std::string>("Name") != "phase 1")
       fail("Phases/Phase 1 is given, but Phases/Count = 1 (the Fluid sublist's fluid alone): set Phases/Count = 2, "
@@ -349,6 +351,9 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
     else if (!scene.has_solid() && scene.walls == WallType::None)
       msg << "Phases/Phase 1/Drainage needs a solid (Grains, an Image or Walls): in an open cell every ball fits "
              "and the phase would fill it all";
+    else if (trapping && inlet == "anywhere")
+      msg << "Phases/Phase 1/Drainage/Trapping needs an Inlet axis: the wetting phase is trapped when cut off "
+             "from the outlet, the high side of the inlet's face, and Inlet = anywhere has none";
     else if (inlet != "anywhere" && inlet[0] - 'x' >= dim)
       msg << "Phases/Phase 1/Drainage/Inlet = '" << inlet << "' names an axis the " << dim << "D cell has not";
     if (!msg.str().empty()) fail(msg.str());
@@ -364,6 +369,7 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
     rule.radius = drain_radius;
     rule.inlet_anywhere = inlet == "anywhere";
     rule.inlet_axis = rule.inlet_anywhere ? 0 : inlet[0] - 'x';
+    rule.trapping = trapping;
     rule.contact_angle = contact_angle;
     rule.surface_tension = drain_sigma;
   } else if (box) {

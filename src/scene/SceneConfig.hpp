@@ -78,6 +78,7 @@ struct PhaseConfig {
     double radius = 0;      // > 0: the ball radius (m)
     int inlet_axis = 0;
     bool inlet_anywhere = false;
+    bool trapping = false;       // wetting phase cut off from the outlet stays
     double contact_angle = 0;    // degrees, through phase 0
     double surface_tension = 0;  // N/m, for the capillary pressure reported; 0: not reported
   } drainage;
