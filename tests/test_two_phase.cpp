@@ -291,6 +291,9 @@ TEST(TwoPhase, BadDrainageIsRefusedByName) {
                                                   "Inlet", std::string("z")); });
   EXPECT_TRUE(has(m, "Inlet = 'z' names an axis the 2D cell has not")) << m;
   m = refusal([&](auto& l) { drained(l, 0.5), l.sublist("Phases").sublist("Phase 1").sublist("Drainage").set(
+                                                  "Inlet", std::string("y")); });
+  EXPECT_TRUE(has(m, "Inlet = 'y': the cell is closed by walls across that axis")) << m;
+  m = refusal([&](auto& l) { drained(l, 0.5), l.sublist("Phases").sublist("Phase 1").sublist("Drainage").set(
                                                   "Inlet", std::string("w")); });
   EXPECT_TRUE(has(m, "Inlet")) << m;
   m = refusal([&](auto& l) {

@@ -356,6 +356,9 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
              "from the outlet, the high side of the inlet's face, and Inlet = anywhere has none";
     else if (inlet != "anywhere" && inlet[0] - 'x' >= dim)
       msg << "Phases/Phase 1/Drainage/Inlet = '" << inlet << "' names an axis the " << dim << "D cell has not";
+    else if (inlet != "anywhere" && !scene.periodic[inlet[0] - 'x'])
+      msg << "Phases/Phase 1/Drainage/Inlet = '" << inlet << "': the cell is closed by walls across that axis "
+          << "(Domain/Periodic), so no phase enters there; name a periodic axis";
     if (!msg.str().empty()) fail(msg.str());
     if (drain_radius > 0 && drain_radius < 0.5 * scene.particle_spacing) {
       std::ostringstream note;
