@@ -219,8 +219,9 @@ RCP<ParameterList> make_valid_parameters() {
                  real_in(0.0, kHuge));
     drainage.set("Radius", 0.0, "The ball radius r (m), > 0. 0: Saturation sets r.", real_in(-kHuge, kHuge));
     drainage.set("Inlet", std::string("x"),
-                 "Where the phase enters: 'x', 'y' or 'z', the cell's face across that axis (a reservoir at x = 0, "
-                 "which across a periodic face is also x = L), or 'anywhere' (every ball that fits is filled).",
+                 "Where the phase enters: 'x', 'y' or 'z', the cell's face across that (periodic) axis (a reservoir "
+                 "at x = 0, which across the periodic face is also x = L), or 'anywhere' (every ball that fits is "
+                 "filled).",
                  one_of({"x", "y", "z", "anywhere"}));
     drainage.set("Trapping", false,
                  "Trap the wetting phase: the cell is a sample between two reservoirs, the non-wetting phase "
