@@ -116,8 +116,43 @@ TEST(Drainage, WettingPhaseCutOffFromTheOutletIsTrapped) {
   EXPECT_EQ(all.radius, 0.0);  // not reached: the pocket is trapped
 }
 
-// The target's step: the largest radius reaching the saturation, which the
-// next larger radius does not reach; and a target no path reaches.
+// With trapping the cell is a sample: a chamber 15 wide at the inlet, a
+// channel 4 wide, and a chamber 15 wide at the outlet, which across the
+// periodic face touches the inlet's chamber. Nothing wraps across the face:
+// balls of radius 6 from the inlet fill the inlet's chamber and none of the
+// rest (the channel is too narrow), where without trapping (both sides of
+// the face the reservoir) the outlet's chamber fills from its own side. And
+// an outlet closed by solid traps all the wetting phase before any ball.
+TEST(Drainage, TrappingSampleHasNoWrapAcrossItsFace) {
+  const auto sample = [](bool outlet_open) {
+    return channel(45, 30, [outlet_open](long long i, long long j) {
+      if (i == 44 && !outlet_open) return false;
+      return i < 15 || i >= 30 || (j >= 13 && j < 17);
+    });
+  };
+  const auto beyond_inlet_chamber = [](const std::vector<char>& marks) {
+    long long n = 0;
+    for (long long j = 0; j < 30; ++j)
+      for (long long i = 15; i < 45; ++i) n += marks[static_cast<size_t>(i + 45 * j)] != 0;
+    return n;
+  };
+  const auto lattice = sample(true);
+  const auto radius = pore_radius(lattice);
+  const DrainageInlet free_flow{0, false, false}, trapping{0, false, true};
+  const auto trapped = drained_points(lattice, radius, 6.0, trapping);
+  EXPECT_GT(count(trapped), 300);
+  EXPECT_EQ(beyond_inlet_chamber(trapped), 0);
+  EXPECT_GT(beyond_inlet_chamber(drained_points(lattice, radius, 6.0, free_flow)), 300);
+  const auto closed = sample(false);
+  const auto closed_radius = pore_radius(closed);
+  EXPECT_EQ(count(drained_points(closed, closed_radius, 0.5, trapping)), 0);
+  EXPECT_EQ(drainage_curve(closed, closed_radius, trapping).back().saturation, 0.0);
+}
+
+// The target's step: the first step of the curve that reaches the
+// saturation (the one before does not), the phase placed there the
+// curve's row; a given radius is a row of its curve too; and a target no
+// path reaches.
 TEST(Drainage, SaturationTargetIsTheFirstStepThatReachesIt) {
   // Discs of radius 6 on a periodic 40 x 40 lattice, centres at (10, 10)
   // and (30, 26): uneven pores.
@@ -134,14 +169,26 @@ TEST(Drainage, SaturationTargetIsTheFirstStepThatReachesIt) {
     }
   const auto radius = pore_radius(lattice);
   const DrainageInlet inlet{0, false};
+  const auto curve = drainage_curve(lattice, radius, inlet);
   for (double target : {0.2, 0.5, 0.8, 0.95}) {
     const DrainageStep step = drain_to_saturation(lattice, radius, target, inlet);
     ASSERT_GT(step.radius, 0.0) << target;
     EXPECT_GE(step.saturation, target);
     EXPECT_DOUBLE_EQ(step.saturation, drained_saturation(lattice, drained_points(lattice, radius, step.radius, inlet)));
-    const double beyond = drained_saturation(lattice, drained_points(lattice, radius, step.radius + 2e-3, inlet));
-    EXPECT_LT(beyond, target) << target;
+    size_t row = 0;
+    while (row < curve.size() && curve[row].radius != step.radius) ++row;
+    ASSERT_LT(row, curve.size()) << "the step is a row of the curve, target " << target;
+    EXPECT_EQ(curve[row].saturation, step.saturation);
+    if (row > 0) {
+      EXPECT_LT(curve[row - 1].saturation, target) << target;
+    }
   }
+  // A radius between two steps is a step of its own curve, with the saturation placed there.
+  const double between = 0.5 * (curve[3].radius + curve[4].radius);
+  const auto own = drainage_curve(lattice, radius, inlet, between);
+  ASSERT_EQ(own.size(), curve.size() + 1);
+  EXPECT_EQ(own[4].radius, between);
+  EXPECT_EQ(own[4].saturation, drained_saturation(lattice, drained_points(lattice, radius, between, inlet)));
   // Sealed pockets: a ring of solid about a pore no path from the inlet reaches.
   auto sealed = lattice;
   for (long long j = 0; j < 40; ++j)

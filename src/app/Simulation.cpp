@@ -292,13 +292,13 @@ void Simulation<Dim, ExecSpace>::place_phases() {
       if (labelled) {
         msg << "Phases/Phase " << p << "/Image Values: no fluid particle lies in a voxel of these values";
       } else if (drained) {
-        double widest = 0;  // the largest radius at which a ball enters
+        double entering = 0;  // the largest step of the curve at which balls enter
         for (const auto& step : drainage_.curve)
-          if (step.saturation > 0) widest = std::max(widest, step.radius);
+          if (step.saturation > 0) entering = std::max(entering, step.radius);
         msg << "Phases/Phase " << p << "/Drainage/Radius = " << drainage_.radius
             << ": no ball of that radius reaches from the inlet into the pore space, so the phase holds no fluid "
-               "particle (the widest that enters has radius "
-            << widest << "); make it smaller";
+               "particle (balls of radius "
+            << entering << " enter); make it smaller";
       } else {
         msg << "Phases/Phase " << p
             << (scene_.phases[p].round() ? "/Region Centre and Region Radius: the disc (sphere)"
@@ -324,7 +324,9 @@ bool Simulation<Dim, ExecSpace>::image_phase_one(const double* x) const {
   const auto& values = scene_.phases[1].image_values;
   const auto& solid = image.solid_values;
   long long centre[3] = {0, 0, 0};
-  for (int d = 0; d < Dim; ++d) centre[d] = static_cast<long long>(std::floor(x[d] / image.voxel_size));
+  // A lattice point on a face between voxels (a spacing of two voxels) is
+  // x / voxel_size = a whole number to round-off: nudged to the voxel above.
+  for (int d = 0; d < Dim; ++d) centre[d] = static_cast<long long>(std::floor(x[d] / image.voxel_size + 1e-9));
   // -1 solid, 0 phase 0, 1 phase 1, of the voxel `offset` from the centre's.
   auto label = [&](const long long (&offset)[3]) {
     long long at[3] = {0, 0, 0};
@@ -368,12 +370,13 @@ long long Simulation<Dim, ExecSpace>::drainage_lattice_index(const double* x) co
 // Phase 1 by drainage (scene/Drainage.hpp): every process marks its fluid
 // particles' points on the whole lattice, the marks are joined, and each
 // process places the phase on the same lattice (so the same points on any
-// number of processes). It holds about kDrainageBytesPerPoint a lattice
-// point while it does (flags, distances, the transform): refused up front
-// where the processes of this machine would not have that.
+// number of processes). It holds up to about kDrainageBytesPerPoint a
+// lattice point while it does (flags, distances, transforms, the search's
+// queue): refused up front, on every process alike, where the processes of
+// a machine would not have that.
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::drain_phase_one() {
-  constexpr double kDrainageBytesPerPoint = 32;
+  constexpr double kDrainageBytesPerPoint = 64;
   DrainageLattice lattice;
   lattice.dimension = Dim;
   for (int d = 0; d < Dim; ++d) {
@@ -381,18 +384,31 @@ void Simulation<Dim, ExecSpace>::drain_phase_one() {
     lattice.periodic[d] = scene_.periodic[d];
   }
   const int sharing = comm_.on_this_machine();
-  const double need = kDrainageBytesPerPoint * static_cast<double>(lattice.size()) * sharing;
-  const bool limited = scene_.memory_limit_bytes > 0;
-  const double available = limited ? scene_.memory_limit_bytes : memory_available_bytes();
-  if (need > available) {
-    std::ostringstream msg;
-    msg << std::setprecision(3) << "Phases/Phase 1/Drainage runs on the whole lattice on every process, about "
-        << kDrainageBytesPerPoint << " bytes a point: " << lattice.size() << " points on " << sharing
-        << " process(es) of this machine need " << need / 1e9 << " GB, and "
-        << (limited ? "Run/Memory Limit gives " : "the machine has ") << available / 1e9
-        << " GB available; use fewer processes per machine or a coarser Discretization/Particle Spacing";
-    throw std::invalid_argument(msg.str());
+  const double need = kDrainageBytesPerPoint * static_cast<double>(lattice.size());
+  // As for an image's pieces (scene/ImageScene.cpp): the machine's memory is
+  // shared by its processes; an address-space limit is each process's own.
+  double need_here = need * sharing, available = 0;
+  std::string source;
+  if (scene_.memory_limit_bytes > 0) {
+    available = scene_.memory_limit_bytes, source = "Run/Memory Limit gives";
+  } else {
+    const double machine = meminfo_available_bytes(), own = address_space_left_bytes();
+    if (own < machine / sharing)
+      available = own, need_here = need, source = "what is left of this process's address-space limit is";
+    else
+      available = machine, source = "the machine has available";
   }
+  std::string problem;
+  if (need_here > available) {
+    std::ostringstream msg;
+    msg << std::setprecision(3) << "Phases/Phase 1/Drainage runs on the whole lattice on every process, up to "
+        << kDrainageBytesPerPoint << " bytes a point: " << lattice.size() << " points on " << sharing
+        << " process(es) of this machine need " << need_here / 1e9 << " GB, and " << source << " "
+        << available / 1e9 << " GB; use fewer processes per machine or a coarser Discretization/Particle Spacing";
+    problem = msg.str();
+  }
+  problem = comm_.first_problem(problem);
+  if (!problem.empty()) throw std::invalid_argument(problem);
   lattice.fluid.assign(static_cast<size_t>(lattice.size()), 0);
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
   auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);

@@ -214,8 +214,9 @@ RCP<ParameterList> make_valid_parameters() {
         "(grains, an image or walls). Give Saturation or Radius. The run writes drainage.csv, the saturation "
         "against r (and Pc) down to half a spacing, and summary.json's 'drainage' (docs/method.md).");
     drainage.set("Saturation", 0.0,
-                 "Target saturation of the phase in (0, 1]: the largest r at which it fills at least this share "
-                 "of the fluid particles (the drainage step that first reaches it). 0: Radius sets r.",
+                 "Target saturation of the phase in (0, 1]: r is that of the drainage's first step (a row of "
+                 "drainage.csv) that fills at least this share of the fluid particles. 0: Radius sets r (a row "
+                 "of drainage.csv too).",
                  real_in(0.0, kHuge));
     drainage.set("Radius", 0.0, "The ball radius r (m), > 0. 0: Saturation sets r.", real_in(-kHuge, kHuge));
     drainage.set("Inlet", std::string("x"),
@@ -224,10 +225,11 @@ RCP<ParameterList> make_valid_parameters() {
                  "filled).",
                  one_of({"x", "y", "z", "anywhere"}));
     drainage.set("Trapping", false,
-                 "Trap the wetting phase: the cell is a sample between two reservoirs, the non-wetting phase "
-                 "entering at the low side of the Inlet's face and the wetting phase leaving at its high side; "
-                 "wetting phase that no path of wetting phase joins to that outlet stays, and the balls of later "
-                 "steps fit in the pore space less it (its residual saturation). Not with Inlet = anywhere.");
+                 "Trap the wetting phase: the cell is a sample between two reservoirs (nothing wraps across the "
+                 "Inlet's face), the non-wetting phase entering next to x = 0 (for Inlet = x) and the wetting "
+                 "phase leaving next to x = L; wetting phase that no path of wetting phase joins to that outlet "
+                 "stays, and the balls of later steps fit in the pore space less it (its residual saturation). "
+                 "Not with Inlet = anywhere.");
     drainage.set("Contact Angle", 0.0,
                  "Static contact angle theta (degrees) measured through phase 0, the wetting fluid, in [0, 90): "
                  "it enters Pc only.",

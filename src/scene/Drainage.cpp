@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <queue>
 #include <sstream>
@@ -30,13 +31,16 @@ long long step_along(const DrainageLattice& lattice, long long n, int axis, int 
 
 }  // namespace
 
-std::vector<double> pore_radius(const DrainageLattice& lattice) {
+namespace {
+// pore_radius, with the lattice open (not closed by solid) at both ends of
+// `open_axis` where it is not periodic: a sample's faces on its reservoirs.
+std::vector<double> pore_radius_open_at(const DrainageLattice& lattice, int open_axis) {
   if (static_cast<long long>(lattice.fluid.size()) != lattice.size())
     throw std::logic_error("pore_radius: the fluid flags do not cover the lattice");
   // A closed axis is bounded by solid: one layer of it on either side.
   std::array<long long, 3> padded = lattice.shape, first{};
   for (int d = 0; d < lattice.dimension; ++d)
-    if (!lattice.periodic[d]) padded[d] += 2, first[d] = 1;
+    if (!lattice.periodic[d] && d != open_axis) padded[d] += 2, first[d] = 1;
   std::vector<char> solid(static_cast<size_t>(padded[0] * padded[1] * padded[2]), 1);
   for (long long k = 0; k < lattice.shape[2]; ++k)
     for (long long j = 0; j < lattice.shape[1]; ++j)
@@ -56,6 +60,9 @@ std::vector<double> pore_radius(const DrainageLattice& lattice) {
       }
   return radius;
 }
+}  // namespace
+
+std::vector<double> pore_radius(const DrainageLattice& lattice) { return pore_radius_open_at(lattice, -1); }
 
 namespace {
 
@@ -125,27 +132,43 @@ double largest_radius(const DrainageLattice& lattice, const std::vector<double>&
 
 // The radii of the drainage's steps, largest first: from the largest pore
 // radius down to half a spacing, at most kDrainageSteps + 1 of them and at
-// least a quarter of a spacing apart.
-std::vector<double> drainage_ladder(const DrainageLattice& lattice, const std::vector<double>& radius) {
+// least a quarter of a spacing apart, and `also` (> 0) among them.
+std::vector<double> drainage_ladder(const DrainageLattice& lattice, const std::vector<double>& radius,
+                                    double also = 0) {
   constexpr int kDrainageSteps = 100;
   const double largest = largest_radius(lattice, radius);
   const double step = std::max(0.25, (largest - 0.5) / kDrainageSteps);
   std::vector<double> ladder;
   for (int k = 0; largest - k * step > 0.5; ++k) ladder.push_back(largest - k * step);
   ladder.push_back(0.5);
+  if (also > 0 && std::find(ladder.begin(), ladder.end(), also) == ladder.end()) {
+    ladder.push_back(also);
+    std::sort(ladder.begin(), ladder.end(), std::greater<double>());
+  }
   return ladder;
 }
 
 // The drainage as it goes, step by step: the points drained so far and,
-// with trapping, the wetting phase trapped so far. Trapped wetting phase
+// with trapping, the wetting phase trapped so far. With trapping the cell
+// is a sample between two reservoirs: nothing wraps across the inlet's
+// face (balls included), and the faces are open. Trapped wetting phase
 // stays (it cannot leave, and the non-wetting phase cannot squeeze it), so
 // the balls of later steps fit in the pore space less it: the pore radius
-// and the reach are remade on that space whenever it shrinks.
+// and the reach are remade on that space whenever it shrinks, from the
+// start (wetting phase no path joins to the outlet is trapped before any
+// ball comes).
 class DrainageSweep {
  public:
   DrainageSweep(const DrainageLattice& lattice, const std::vector<double>& radius, const DrainageInlet& inlet)
-      : open_(lattice), inlet_(inlet), reach_(reach_radius(lattice, radius, inlet)),
-        drained_(radius.size(), 0) {}
+      : open_(lattice), inlet_(inlet), drained_(radius.size(), 0) {
+    if (inlet_.trapping) {
+      open_.periodic[inlet_.axis] = false;
+      trap();
+      reach_ = reach_radius(open_, pore_radius_open_at(open_, inlet_.axis), inlet_);
+    } else {
+      reach_ = reach_radius(lattice, radius, inlet);
+    }
+  }
 
   // The points drained once the balls of radius r are added (kept apart).
   std::vector<char> with_balls(double r) const {
@@ -156,7 +179,7 @@ class DrainageSweep {
   // Adds them; with trapping, the wetting phase the outlet no longer reaches is trapped.
   void advance(double r) {
     drained_ = with_balls(r);
-    if (inlet_.trapping && trap()) reach_ = reach_radius(open_, pore_radius(open_), inlet_);
+    if (inlet_.trapping && trap()) reach_ = reach_radius(open_, pore_radius_open_at(open_, inlet_.axis), inlet_);
   }
   const std::vector<char>& drained() const { return drained_; }
 
@@ -197,7 +220,7 @@ class DrainageSweep {
 std::vector<char> drained_points(const DrainageLattice& lattice, const std::vector<double>& radius, double r,
                                  const DrainageInlet& inlet) {
   DrainageSweep sweep(lattice, radius, inlet);
-  for (double step : drainage_ladder(lattice, radius))
+  for (double step : drainage_ladder(lattice, radius, r))
     if (step > r) sweep.advance(step);
   return sweep.with_balls(r);
 }
@@ -211,33 +234,19 @@ double drained_saturation(const DrainageLattice& lattice, const std::vector<char
 DrainageStep drain_to_saturation(const DrainageLattice& lattice, const std::vector<double>& radius,
                                  double saturation, const DrainageInlet& inlet) {
   DrainageSweep sweep(lattice, radius, inlet);
-  const auto ladder = drainage_ladder(lattice, radius);
-  double above = ladder.front() + 1;
-  for (double step : ladder) {
-    const double at_step = drained_saturation(lattice, sweep.with_balls(step));
-    if (at_step >= saturation) {
-      // Between this step and the one above, the largest radius that reaches it.
-      double lo = step, hi = above, at_lo = at_step;
-      while (hi - lo > 1e-3) {
-        const double mid = 0.5 * (lo + hi), at_mid = drained_saturation(lattice, sweep.with_balls(mid));
-        if (at_mid >= saturation)
-          lo = mid, at_lo = at_mid;
-        else
-          hi = mid;
-      }
-      return {lo, at_lo};
-    }
+  for (double step : drainage_ladder(lattice, radius)) {
     sweep.advance(step);
-    above = step;
+    const double at_step = drained_saturation(lattice, sweep.drained());
+    if (at_step >= saturation) return {step, at_step};
   }
   return {0.0, drained_saturation(lattice, sweep.drained())};
 }
 
 std::vector<DrainageStep> drainage_curve(const DrainageLattice& lattice, const std::vector<double>& radius,
-                                         const DrainageInlet& inlet) {
+                                         const DrainageInlet& inlet, double also) {
   DrainageSweep sweep(lattice, radius, inlet);
   std::vector<DrainageStep> curve;
-  for (double step : drainage_ladder(lattice, radius)) {
+  for (double step : drainage_ladder(lattice, radius, also)) {
     sweep.advance(step);
     curve.push_back({step, drained_saturation(lattice, sweep.drained())});
   }
@@ -267,7 +276,7 @@ DrainagePlacement place_by_drainage(const PhaseConfig::Drainage& rule, const Dra
   const double pi = std::acos(-1.0);
   placed.curvature = (lattice.dimension - 1) * std::cos(rule.contact_angle * pi / 180) / placed.radius;
   placed.capillary_pressure = rule.surface_tension * placed.curvature;
-  placed.curve = drainage_curve(lattice, radius, inlet);
+  placed.curve = drainage_curve(lattice, radius, inlet, r);
   for (auto& step : placed.curve) step.radius *= dx;
   return placed;
 }

@@ -5,8 +5,9 @@
 // Pc = (dim - 1) sigma cos(theta) / r, the non-wetting phase fills every
 // ball of radius r that fits in the pore space and whose centre can reach
 // the non-wetting reservoir through centres of such balls. The wetting
-// phase keeps the rest (corners, films, throats narrower than 2r); it is
-// not trapped here (it drains wherever the rule lets the balls in).
+// phase keeps the rest (corners, films, throats narrower than 2r). It
+// drains wherever the rule lets the balls in, unless trapping is asked
+// for: then wetting phase cut off from its outlet stays (DrainageInlet).
 //
 // Everything is measured on the lattice of fixed particles, in spacings:
 // a point's pore radius is its distance to the nearest lattice point that
@@ -37,10 +38,11 @@ struct DrainageLattice {
 // (both lattice layers next to it: across a periodic face the two sides
 // meet there), or anywhere (every ball that fits is filled). With
 // trapping, the cell is a sample between two reservoirs: the non-wetting
-// phase enters at the layer at the low side of that face, the wetting
-// phase leaves at the layer at its high side, and wetting phase that no
-// path of wetting phase joins to that outlet is trapped: it stays, and the
-// non-wetting phase never fills it (not with anywhere).
+// phase enters at the first lattice layer along `axis` (next to x = 0 for
+// x), the wetting phase leaves at the last (next to x = L), nothing joins
+// or wraps across that face, and wetting phase that no path of wetting
+// phase joins to the outlet is trapped: it stays, and the non-wetting
+// phase never fills it (not with anywhere).
 struct DrainageInlet {
   int axis = 0;
   bool anywhere = false;
@@ -53,8 +55,8 @@ std::vector<double> pore_radius(const DrainageLattice& lattice);
 
 // The points the non-wetting phase fills once the ball radius has come
 // down to r (spacings): those of the balls of every step of the drainage
-// from the largest pore radius down to r (see drainage_curve) and of r
-// itself. Drainage only adds: a point filled at a larger radius stays
+// from the largest pore radius down to r (drainage_curve with r among its
+// steps) and of r itself. Drainage only adds: a point filled at a larger radius stays
 // filled. (In the continuum the balls of radius r alone hold those of any
 // larger radius; on the lattice, whose balls' centres and rims are lattice
 // points, not always: a film of wetting phase can appear at one step and
@@ -70,20 +72,22 @@ struct DrainageStep {
   double saturation = 0;  // of the non-wetting phase
 };
 
-// The largest ball radius (spacings, to 1e-3 of a spacing) at which the
-// non-wetting phase fills at least `saturation` of the fluid points, and
-// the saturation there: the drainage step at which the target is first
-// reached. radius = 0 when no radius reaches it (pore space the inlet
-// cannot reach).
+// The drainage step at which the non-wetting phase first fills at least
+// `saturation` of the fluid points: the first step of the curve
+// (drainage_curve) that does, its radius (spacings) and saturation; so
+// the phase placed there is a row of the curve. radius = 0 when no step
+// reaches it (pore space the inlet cannot reach, or trapped wetting phase).
 DrainageStep drain_to_saturation(const DrainageLattice& lattice, const std::vector<double>& radius,
                                  double saturation, const DrainageInlet& inlet);
 
 // The drainage curve: the saturation at each step of the drainage, its
 // radius (spacings) falling from the largest pore radius to half a
 // spacing (every fluid point a centre) by a quarter of a spacing, or by
-// 1/100 of the range where that is more, largest first.
+// 1/100 of the range where that is more, largest first; with `also` > 0,
+// that radius is a step too (the phase placed at a given radius is then
+// a row of the curve).
 std::vector<DrainageStep> drainage_curve(const DrainageLattice& lattice, const std::vector<double>& radius,
-                                         const DrainageInlet& inlet);
+                                         const DrainageInlet& inlet, double also = 0);
 
 // A phase placed by the rule (PhaseConfig::Drainage) on a lattice of
 // spacing dx: the points it fills, the radius (m) and saturation there,
