@@ -88,10 +88,12 @@ def main():
         import matplotlib.pyplot as plt
         fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
         for dx, curve in curves.items():
-            left.step([s for s, _ in curve], [pc for _, pc in curve], where="post", label=f"dx = {dx / args.length:g} L")
+            tag = f"dx = {dx / args.length:g} L"
+            left.step([s for s, _ in curve], [pc for _, pc in curve], where="post", label=tag)
             mine = [p for p in points if p["dx"] == dx]
-            right.plot([p["saturation"] for p in mine], [p["krw"] for p in mine], "o-", label=f"k_r,w dx = {dx / args.length:g} L")
-            right.plot([p["saturation"] for p in mine], [p["krn"] for p in mine], "s--", label=f"k_r,nw dx = {dx / args.length:g} L")
+            saturations = [p["saturation"] for p in mine]
+            right.plot(saturations, [p["krw"] for p in mine], "o-", label=f"k_r,w {tag}")
+            right.plot(saturations, [p["krn"] for p in mine], "s--", label=f"k_r,nw {tag}")
         left.set_xlabel("non-wetting saturation S_nw")
         left.set_ylabel("Pc L / sigma")
         left.set_yscale("log")
