@@ -446,6 +446,28 @@ RunReport run_list(Teuchos::ParameterList list, const std::string& name) {
   return run_scene(scene, options);
 }
 
+// A run with phase 1 placed by drainage, continued from its checkpoint,
+// reports the same drainage (the phases come with the particles, the step
+// and curve are made again) and ends as the run in one go.
+TEST(TwoPhase, DrainageContinuedFromItsCheckpointReportsItsStep) {
+  const auto steps = [](const std::string& n) {
+    return std::vector<std::string>{"Discretization/Particle Spacing=0.002", "Phases/Count=2",
+                                    "Phases/Phase 1/Kinematic Viscosity=2e-6",
+                                    "Phases/Phase 1/Drainage/Saturation=0.7", "Solver/Method=explicit",
+                                    "Run/Max Steps=" + n, "Output/Final Particles CSV=true"};
+  };
+  const RunReport whole = run_input("problem3/problem3.xml", steps("200"), "drain-whole");
+  run_input("problem3/problem3.xml", steps("100"), "drain-parts");
+  const RunReport continued = run_input("problem3/problem3.xml", steps("200"), "drain-parts", "checkpoint.h5");
+  EXPECT_EQ(continued.restarted_from_step, 100);
+  ASSERT_TRUE(continued.drainage.placed);
+  EXPECT_GT(whole.drainage.radius, 0.0);
+  EXPECT_EQ(continued.drainage.radius, whole.drainage.radius);
+  EXPECT_EQ(continued.drainage.saturation, whole.drainage.saturation);
+  EXPECT_EQ(continued.drainage.curve.size(), whole.drainage.curve.size());
+  EXPECT_EQ(file_text("drain-whole", "particles.csv"), file_text("drain-parts", "particles.csv"));
+}
+
 // Entry pressure of a throat: a 2D image (one particle a voxel) of a
 // channel open to the cell's faces across x, 38 voxels wide, and below it
 // a chamber that a throat w = 30 voxels wide and 20 long is the only way

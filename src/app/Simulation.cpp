@@ -1014,6 +1014,12 @@ void Simulation<Dim, ExecSpace>::resume(long long steps, const typename Particle
       KOKKOS_LAMBDA(int i, long long& n) { n += kind(i) == kFluid; }, fluid);
   fluid_count_ = comm_.sum(fluid);
   total_count_ = comm_.sum(static_cast<long long>(particles_.owned));
+  // The particles brought their phases; the drainage's step and curve,
+  // which summary.json reports, are made again from the same lattice.
+  if (scene_.has_phases() && scene_.phases[1].drained()) {
+    drain_phase_one();
+    drainage_.drained = std::vector<char>();
+  }
   // With the saved rates the next step needs nothing else: its mid-point
   // refresh updates the ghosts (or, after a redistribution, builds them).
   if (!rates_valid) {
