@@ -29,9 +29,6 @@ long long step_along(const DrainageLattice& lattice, long long n, int axis, int 
   return at[0] + lattice.shape[0] * (at[1] + lattice.shape[1] * at[2]);
 }
 
-}  // namespace
-
-namespace {
 // pore_radius, with the lattice open (not closed by solid) at both ends of
 // `open_axis` where it is not periodic: a sample's faces on its reservoirs.
 std::vector<double> pore_radius_open_at(const DrainageLattice& lattice, int open_axis) {
@@ -242,41 +239,60 @@ DrainageStep drain_to_saturation(const DrainageLattice& lattice, const std::vect
   return {0.0, drained_saturation(lattice, sweep.drained())};
 }
 
-std::vector<DrainageStep> drainage_curve(const DrainageLattice& lattice, const std::vector<double>& radius,
-                                         const DrainageInlet& inlet, double also) {
+namespace {
+// The curve (drainage_curve), and the points drained at the first of its
+// steps that `kept` accepts (empty if none does): one sweep for both.
+template <class Keep>
+std::vector<DrainageStep> curve_keeping(const DrainageLattice& lattice, const std::vector<double>& radius,
+                                        const DrainageInlet& inlet, double also, const Keep& kept,
+                                        std::vector<char>& kept_points) {
   DrainageSweep sweep(lattice, radius, inlet);
   std::vector<DrainageStep> curve;
   for (double step : drainage_ladder(lattice, radius, also)) {
     sweep.advance(step);
     curve.push_back({step, drained_saturation(lattice, sweep.drained())});
+    if (kept_points.empty() && kept(curve.back())) kept_points = sweep.drained();
   }
   return curve;
+}
+}  // namespace
+
+std::vector<DrainageStep> drainage_curve(const DrainageLattice& lattice, const std::vector<double>& radius,
+                                         const DrainageInlet& inlet, double also) {
+  std::vector<char> none;
+  return curve_keeping(lattice, radius, inlet, also, [](const DrainageStep&) { return false; }, none);
 }
 
 DrainagePlacement place_by_drainage(const PhaseConfig::Drainage& rule, const DrainageLattice& lattice, double dx) {
   const DrainageInlet inlet{rule.inlet_axis, rule.inlet_anywhere, rule.trapping};
   const auto radius = pore_radius(lattice);
   DrainagePlacement placed;
-  double r = rule.radius / dx;  // in spacings
-  if (rule.saturation > 0) {
-    const DrainageStep step = drain_to_saturation(lattice, radius, rule.saturation, inlet);
-    if (step.radius == 0) {
-      std::ostringstream msg;
-      msg << std::setprecision(6) << "Phases/Phase 1/Drainage/Saturation = " << rule.saturation
-          << " is not reached: drainage from the inlet fills at most " << step.saturation
-          << " of the fluid (the rest is pore space no path from the inlet reaches"
-          << (rule.trapping ? ", or wetting phase trapped" : "") << "); lower it, or set Inlet";
-      throw std::invalid_argument(msg.str());
-    }
-    r = step.radius;
+  // The step placed is a row of the curve: the given radius (a step of its
+  // own), or the first step that reaches the target saturation
+  // (drain_to_saturation's, and drained_points' there).
+  const bool by_saturation = rule.saturation > 0;
+  const double given = by_saturation ? 0 : rule.radius / dx;  // in spacings
+  double r = given;
+  placed.curve = curve_keeping(
+      lattice, radius, inlet, given,
+      [&](const DrainageStep& step) {
+        const bool here = by_saturation ? step.saturation >= rule.saturation : step.radius == given;
+        if (here) r = step.radius, placed.saturation = step.saturation;
+        return here;
+      },
+      placed.drained);
+  if (by_saturation && placed.drained.empty()) {
+    std::ostringstream msg;
+    msg << std::setprecision(6) << "Phases/Phase 1/Drainage/Saturation = " << rule.saturation
+        << " is not reached: drainage from the inlet fills at most " << placed.curve.back().saturation
+        << " of the fluid (the rest is pore space no path from the inlet reaches"
+        << (rule.trapping ? ", or wetting phase trapped" : "") << "); lower it, or set Inlet";
+    throw std::invalid_argument(msg.str());
   }
   placed.radius = r * dx;
-  placed.drained = drained_points(lattice, radius, r, inlet);
-  placed.saturation = drained_saturation(lattice, placed.drained);
   const double pi = std::acos(-1.0);
   placed.curvature = (lattice.dimension - 1) * std::cos(rule.contact_angle * pi / 180) / placed.radius;
   placed.capillary_pressure = rule.surface_tension * placed.curvature;
-  placed.curve = drainage_curve(lattice, radius, inlet, r);
   for (auto& step : placed.curve) step.radius *= dx;
   return placed;
 }
