@@ -309,6 +309,13 @@ TEST(TwoPhase, BadDrainageIsRefusedByName) {
     drained(l, 0.5), l.sublist("Phases").sublist("Phase 1").set("Image Values", array<int>({2}));
   });
   EXPECT_TRUE(has(m, "not two")) << m;
+  // The rest of the Drainage sublist without Saturation or Radius: said, not ignored.
+  m = refusal([&](auto& l) { l.sublist("Phases").sublist("Phase 1").sublist("Drainage").set("Trapping", true); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage is given without Saturation or Radius")) << m;
+  m = refusal([&](auto& l) {
+    l.sublist("Phases").sublist("Phase 1").sublist("Drainage").set("Contact Angle", 30.0);
+  });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage is given without Saturation or Radius")) << m;
   // Image Values without an image.
   m = refusal([&](auto& l) {
     auto& second = l.sublist("Phases").sublist("Phase 1");

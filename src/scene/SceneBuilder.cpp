@@ -284,12 +284,14 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const double drain_sigma = drainage.get<double>("Surface Tension");
   const bool trapping = drainage.get<bool>("Trapping");
   const bool drained = drain_saturation != 0 || drain_radius != 0;
+  // The rest of the Drainage sublist means nothing without Saturation or Radius.
+  const bool drainage_given =
+      drained || trapping || contact_angle != 0 || drain_sigma != 0 || inlet != "x";
   const auto image_values = second.get<Array<int>>("Image Values");
   const bool labelled = !image_values.empty();
   if (count == 1) {
-    if (nu != 0 || density != 0 || !low.empty() || !high.empty() || !centre.empty() || radius != 0 || drained ||
-        trapping ||
-        labelled ||
+    if (nu != 0 || density != 0 || !low.empty() || !high.empty() || !centre.empty() || radius != 0 ||
+        drainage_given || labelled ||
         second.get<std::string>("Name") != "phase 1")
       fail("Phases/Phase 1 is given, but Phases/Count = 1 (the Fluid sublist's fluid alone): set Phases/Count = 2, "
            "or leave Phases/Phase 1 out");
@@ -315,6 +317,9 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   if (box + round + drained + labelled > 1)
     fail("Phases/Phase 1: give its region one way: a box (Region Low, Region High), a disc/sphere (Region "
          "Centre, Region Radius), the Drainage sublist's rule or Image Values, not two");
+  if (drainage_given && !drained)
+    fail("Phases/Phase 1/Drainage is given without Saturation or Radius: its Inlet, Trapping, Contact Angle and "
+         "Surface Tension mean nothing without them (give one, or leave the sublist out)");
   if (!box && !round && !drained && !labelled)
     fail("Phases/Phase 1 needs its region with Phases/Count = 2: a box (Region Low, Region High), a "
          "disc/sphere (Region Centre, Region Radius), Drainage/Saturation or Drainage/Radius, or Image Values");
