@@ -216,7 +216,8 @@ JsonObject RunReport::to_json() const {
           .add("name", phase.name)
           .add("saturation", phase.saturation)
           .add("superficial_velocity", phase.superficial_velocity)
-          .add("axis", std::string(1, "xyz"[phase.axis]));
+          .add("axis", std::string(1, "xyz"[phase.axis]))
+          .add("driven", phase.driven);
       if (phase.has_relative_permeability) entry.add("relative_permeability", phase.relative_permeability);
       entry.add("mass", phase.mass).add("mean_pressure", phase.mean_pressure);
       entries.push_back(entry);

@@ -234,7 +234,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     particles_.keep_phase();
     for (size_t p = 0; p < scene.phases.size(); ++p)
       fluid_.phase_kinematic_viscosity[p] = scene.phases[p].kinematic_viscosity;
-    if (scene.surface_tension > 0) particles_.keep_surface_acceleration();
+    if (scene.surface_tension > 0 || scene.driven_phase >= 0) particles_.keep_phase_acceleration();
   }
   if (start == Start::Empty) return;
 
@@ -256,6 +256,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   }
   if (scene.has_phases()) place_phases();
   if (scene.surface_tension > 0) place_surface_tension();
+  if (scene.driven_phase >= 0) place_phase_body_force();
   if (scene.moving_grains()) start_moving_grains();
   compute_rates();
   if (rigid_grains_.moving()) rigid_grains_.take_loads(particles_, comm_);
@@ -447,19 +448,51 @@ void Simulation<Dim, ExecSpace>::place_surface_tension() {
     return fraction ? phase_one_fraction(scene_, at, dx, samples) : (phase_at(scene_, at) == 1 ? 1.0 : 0.0);
   };
   const auto geometry = interface_geometry<Dim>(points, cells, dx, derived_.smoothing_length, colour);
-  auto acceleration = Kokkos::create_mirror_view(particles_.surface_acceleration);
+  auto acceleration = Kokkos::create_mirror_view(particles_.phase_acceleration);
   for (int i = 0; i < particles_.owned; ++i) {
     const Vec<Dim> a = surface_tension_acceleration<Dim>(scene_.surface_tension, geometry[i].smoothed_curvature,
                                                          geometry[i].normal, scene_.density);
     for (int d = 0; d < Dim; ++d) acceleration(i, d) = a[d];
   }
-  Kokkos::deep_copy(particles_.surface_acceleration, acceleration);
+  Kokkos::deep_copy(particles_.phase_acceleration, acceleration);
+}
+
+// With one phase driven (Phases/Driven Phase), the body force enters each
+// fluid particle of that phase through its phase acceleration (on top of
+// any surface tension's), and the finish adds no force of its own
+// (finish_body_force).
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::place_phase_body_force() {
+  const auto acceleration = particles_.phase_acceleration;
+  const auto kind = particles_.kind, phase = particles_.phase;
+  const PhaseBodyForce<Dim, MemorySpace> force = phase_body_force();
+  static const std::string label = "poresph::place_phase_body_force";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned), KOKKOS_LAMBDA(int a) {
+        if (kind(a) != kFluid) return;
+        for (int d = 0; d < Dim; ++d) acceleration(a, d) += force.of(a)[d];
+      });
+  space_.fence();
 }
 
 template <int Dim, class ExecSpace>
-void Simulation<Dim, ExecSpace>::add_surface_tension() {
-  const auto dvdt = particles_.dvdt, acceleration = particles_.surface_acceleration;
-  static const std::string label = "poresph::add_surface_tension";
+PhaseBodyForce<Dim, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>::phase_body_force() const {
+  PhaseBodyForce<Dim, MemorySpace> force;
+  if (scene_.driven_phase < 0) return force;
+  force.phase = particles_.phase;
+  for (int p = 0; p < 2; ++p) force.force[p] = scene_.phase_force_share(p) * body_force_;
+  return force;
+}
+
+template <int Dim, class ExecSpace>
+Vec<Dim> Simulation<Dim, ExecSpace>::finish_body_force() const {
+  return scene_.driven_phase < 0 ? body_force_ : Vec<Dim>::zero();
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::add_phase_acceleration() {
+  const auto dvdt = particles_.dvdt, acceleration = particles_.phase_acceleration;
+  static const std::string label = "poresph::add_phase_acceleration";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned), KOKKOS_LAMBDA(int a) {
         for (int d = 0; d < Dim; ++d) dvdt(a, d) += acceleration(a, d);
@@ -485,14 +518,16 @@ void Simulation<Dim, ExecSpace>::couple_grains() {
 }
 
 template <int Dim, class ExecSpace>
-double Simulation<Dim, ExecSpace>::local_fluid_mass() const {
+double Simulation<Dim, ExecSpace>::local_fluid_mass(int phase) const {
   const auto kind = particles_.kind;
   const auto m = particles_.m;
+  const auto which = particles_.phase;
   double mass = 0;
   static const std::string label = "poresph::fluid_mass";
   Kokkos::parallel_reduce(
       label, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned),
-      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid ? m(i) : 0.0; }, mass);
+      KOKKOS_LAMBDA(int i, double& sum) { sum += kind(i) == kFluid && (phase < 0 || which(i) == phase) ? m(i) : 0.0; },
+      mass);
   return mass;
 }
 
@@ -554,7 +589,7 @@ void Simulation<Dim, ExecSpace>::update_wall_pressure() {
   if (!extrapolate_walls_) return;
   extrapolate_wall_pressure(space_, particles_, wall_neighbours_, kernel_, body_force_,
                             derived_.sound_speed * derived_.sound_speed, scene_.density, reference_pressure_,
-                            volume_density_, rigid_grains_.wall_acceleration());
+                            volume_density_, rigid_grains_.wall_acceleration(), phase_body_force());
   space_.fence();
   neighbourhood_.update_ghosts(particles_);
 }
@@ -717,7 +752,7 @@ void Simulation<Dim, ExecSpace>::pressure_product(const Scalars& dp, const Rows&
   // The walls' pressures follow the fluid's (or keep their own: continuity).
   if (extrapolate_walls_) {
     extrapolate_wall_pressure_change(space_, particles_, wall_neighbours_, kernel_, body_force_,
-                                     derived_.sound_speed * derived_.sound_speed, values);
+                                     derived_.sound_speed * derived_.sound_speed, values, phase_body_force());
     space_.fence();
   }
   static const std::string label_terms = "poresph::Simulation::pressure_product_terms";
@@ -872,9 +907,9 @@ void Simulation<Dim, ExecSpace>::pair_rates_stage() {
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::finish_stage() {
-  finish_pair_rates(space_, particles_, neighbourhood_.list(), pair_sums_, fluid_, body_force_, pair_options_,
-                    no_slip_factors_);
-  if (particles_.has_surface_acceleration) add_surface_tension();
+  finish_pair_rates(space_, particles_, neighbourhood_.list(), pair_sums_, fluid_, finish_body_force(),
+                    pair_options_, no_slip_factors_);
+  if (particles_.has_phase_acceleration) add_phase_acceleration();
   space_.fence();
 }
 
@@ -1145,7 +1180,7 @@ SurfaceLoads<Dim> Simulation<Dim, ExecSpace>::surface_loads() {
       });
   auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), totals);
   std::vector<double> sums(host.data(), host.data() + lost + 1);
-  sums[fluid_mass] = local_fluid_mass();
+  sums[fluid_mass] = local_fluid_mass(scene_.driven_phase);  // the fluid the body force acts on
   comm_.sum(sums.data(), static_cast<int>(sums.size()));
   if (sums[lost] > 0)
     throw std::logic_error("surface_loads: " + std::to_string(static_cast<long long>(sums[lost])) +

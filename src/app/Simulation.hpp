@@ -300,13 +300,18 @@ class Simulation {
   long long drainage_lattice_index(const double* x) const;
   bool image_phase_one(const double* x) const;  // phase 1 by the image's labels
   void place_surface_tension();  // at set-up: each fluid particle's surface-tension acceleration
-  void add_surface_tension();    // in the finish: that acceleration into dv/dt
+  void place_phase_body_force();  // at set-up: the body force on one phase into its particles' acceleration
+  void add_phase_acceleration();  // in the finish: the phase acceleration into dv/dt
+  // The force per phase a wall's pressure takes from the fluid beside it
+  // (Phases/Driven Phase; empty with one force for all the fluid).
+  PhaseBodyForce<Dim, MemorySpace> phase_body_force() const;
+  Vec<Dim> finish_body_force() const;  // the force the finish adds to every fluid particle
   void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity
   void couple_grains();          // the fluid's share of the body force, the loads, the spins in the no-slip
   void place_grains();           // the grains' particles where the grains are, and the solid map with them
   void follow_grains();          // the scene's grain centres and the solid map where the grains are
   void balance_stage();          // measures the balance; divides the cell anew past the threshold
-  double local_fluid_mass() const;  // of this process's fluid particles
+  double local_fluid_mass(int phase = -1) const;  // of this process's fluid particles (of one phase)
   // Stops the run if the step left a particle count change or an unhealthy
   // particle; known_healthy: the corrector found none here (only the count
   // is left to check).

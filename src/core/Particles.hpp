@@ -65,10 +65,12 @@ struct Particles {
   // Two fluids (scene/SceneConfig.hpp, phases): each particle's phase, set
   // once on the fixed lattice; empty in a scene of one fluid.
   Kokkos::View<int*, MemorySpace> phase;
-  // Surface tension between the phases (physics/SurfaceTension.hpp): each
-  // owned fluid particle's acceleration sigma kappa n / rho0, computed once
-  // (the phases never move) and added like a body force; empty without it.
-  Vector surface_acceleration;
+  // Two fluids: each owned fluid particle's acceleration that the phases'
+  // placement fixes, set once (the phases never move) and added like a body
+  // force: the surface tension sigma kappa n / rho0 between the phases
+  // (physics/SurfaceTension.hpp) and, with one phase driven (Phases/Driven
+  // Phase), the body force on that phase's particles. Empty without either.
+  Vector phase_acceleration;
 
   int owned = 0;
   int ghosts = 0;
@@ -78,7 +80,7 @@ struct Particles {
   bool fixed_positions = false;  // fix_positions()
   bool has_grain_index = false;  // keep_grain_index()
   bool has_phase = false;        // keep_phase()
-  bool has_surface_acceleration = false;  // keep_surface_acceleration()
+  bool has_phase_acceleration = false;  // keep_phase_acceleration()
 
   int total() const { return owned + ghosts; }
 
@@ -121,7 +123,7 @@ struct Particles {
     if (has_surfaces) f(wall_drag);
     if (has_shifting) f(shift), f(shift_velocity);
     if (has_level_start) f(v_level_start), f(p_level_start);
-    if (has_surface_acceleration) f(surface_acceleration);
+    if (has_phase_acceleration) f(phase_acceleration);
   }
   int capacity() const { return static_cast<int>(x.extent(0)); }              // slots a ghost may take
   int owned_capacity() const { return static_cast<int>(v_start.extent(0)); }  // slots an owned particle may take
@@ -138,11 +140,11 @@ struct Particles {
     if (static_cast<int>(phase.extent(0)) < capacity()) phase = Kokkos::View<int*, MemorySpace>("phase", capacity());
   }
 
-  // From now on each owned particle carries its surface-tension acceleration (0 until set).
-  void keep_surface_acceleration() {
-    has_surface_acceleration = true;
-    if (static_cast<int>(surface_acceleration.extent(0)) < owned_capacity())
-      surface_acceleration = Vector("surface_acceleration", owned_capacity());
+  // From now on each owned particle carries its phase acceleration (0 until set).
+  void keep_phase_acceleration() {
+    has_phase_acceleration = true;
+    if (static_cast<int>(phase_acceleration.extent(0)) < owned_capacity())
+      phase_acceleration = Vector("phase_acceleration", owned_capacity());
   }
 
   // From now on the particles carry their level start (v_level_start, p_level_start).
@@ -203,7 +205,7 @@ struct Particles {
     f(v_start, "v_start"), f(dvdt, "dvdt"), f(rho_start, "rho_start"), f(drhodt, "drhodt");
     if (has_surfaces) f(wall_drag, "wall_drag");
     if (has_shifting) f(shift, "shift"), f(shift_velocity, "shift_velocity");
-    if (has_surface_acceleration) f(surface_acceleration, "surface_acceleration");
+    if (has_phase_acceleration) f(phase_acceleration, "phase_acceleration");
   }
 };
 

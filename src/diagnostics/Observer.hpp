@@ -46,8 +46,9 @@ struct PhaseMeasure {
   int axis = 0;                      // of the superficial velocity
   double saturation = 0;             // its share of the fluid volume
   double superficial_velocity = 0;   // its volume flux over the cell's volume (m/s)
+  bool driven = true;                // the body force acts on it (Phases/Driven Phase)
   bool has_relative_permeability = false;
-  double relative_permeability = 0;  // with Phases/Single Phase Permeability
+  double relative_permeability = 0;  // with Phases/Single Phase Permeability; one phase driven: the coupling to it
   double mass = 0;                   // of its particles (kg per m^(3-Dim)); fixed particles keep it exactly
   double mean_pressure = 0;          // its volume-weighted mean p (Pa): phase 1's less phase 0's is the capillary pressure
 };

@@ -130,8 +130,11 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
     m.superficial_velocity = sums[p].flux / cell;
     m.mass = sums[p].mass;
     m.mean_pressure = sums[p].volume > 0 ? sums[p].pressure / sums[p].volume : 0.0;
-    // The phase's own Darcy k (its viscous pull against the force on it, per
-    // unit volume rho_p |F|): mu_p / (rho_p |F|) = nu_p / |F| at rho_p.
+    m.driven = scene.phase_force_share(static_cast<int>(p)) > 0;
+    // The phase's own Darcy k (its viscous pull against the force per unit
+    // volume rho |F| on the driven phase, or on each): mu_p / (rho |F|) =
+    // nu_p / |F| at one density. With one phase driven, the coupling
+    // coefficient k_r,pj of phase p to the driven phase j.
     m.has_relative_permeability = k > 0 && force > 0;
     if (m.has_relative_permeability)
       m.relative_permeability = m.superficial_velocity * scene.phases[p].kinematic_viscosity / force / k;

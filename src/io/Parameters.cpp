@@ -174,6 +174,13 @@ RCP<ParameterList> make_valid_parameters() {
           "(each particle's share of its lattice cell that phase 1's region covers) or 'phase' (its phase, 0 "
           "or 1: a staircase on the lattice; docs/method.md compares them).",
           one_of({"volume fraction", "phase"}));
+    s.set("Driven Phase", std::string("both"),
+          "Which phase Fluid/Body Force acts on: 'both', or '0' or '1', that phase alone (the other is dragged "
+          "along by the first across their interface). With one phase driven, each phase's relative "
+          "permeability in summary.json is its coupling coefficient to the driven phase, "
+          "k_r,ij = (U_i mu_i / (rho_j |F|)) / k; over the two one-phase runs they add up to the run with both "
+          "driven (docs/method.md).",
+          one_of({"both", "0", "1"}));
     auto& p = s.sublist("Phase 1", false,
                         "The second fluid and the region it fills (with Count = 2): a box (Region Low, Region "
                         "High), a disc/sphere (Region Centre, Region Radius) or the Drainage sublist's rule: "

@@ -37,6 +37,18 @@ KOKKOS_INLINE_FUNCTION double extrapolated_wall_pressure(double sum_w, double su
   return sum_w > 0 ? (sum_pw + force_dot_sum_rho_r_w) / sum_w : fallback;
 }
 
+// The body force on the fluid next to a wall when it differs by phase
+// (Phases/Driven Phase): a particle of phase p takes force[p], so that the
+// wall's pressure carries the hydrostatic share of the phase beside it.
+// Empty (no phase view): one force for all the fluid.
+template <int Dim, class MemorySpace>
+struct PhaseBodyForce {
+  Kokkos::View<const int*, MemorySpace> phase;
+  Vec<Dim> force[2] = {Vec<Dim>::zero(), Vec<Dim>::zero()};
+  bool active() const { return phase.extent(0) > 0; }
+  KOKKOS_INLINE_FUNCTION const Vec<Dim>& of(int particle) const { return force[phase(particle)]; }
+};
+
 // The acceleration of moving grains' boundary particles, from each grain's
 // acceleration A, angular acceleration alpha and spin omega (physics/
 // RigidGrains.hpp, as of its last loads): a_w = A + alpha x r + omega x
@@ -170,10 +182,12 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
                                const WallNeighbours<Dim, ExecSpace>& walls, const QuinticKernel<Dim>& kernel,
                                const Vec<Dim>& body_force, double sound_speed_sq, double rest_density,
                                double reference_pressure, double volume_density,
-                               const WallAcceleration<Dim, typename ExecSpace::memory_space>& wall_acceleration = {}) {
+                               const WallAcceleration<Dim, typename ExecSpace::memory_space>& wall_acceleration = {},
+                               const PhaseBodyForce<Dim, typename ExecSpace::memory_space>& phase_force = {}) {
   const auto Q = P;
   const bool cached = walls.has_geometry();
   const bool accelerating = wall_acceleration.active();
+  const bool by_phase = phase_force.active();
   static const std::string label = "poresph::extrapolate_wall_pressure";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int w) {
@@ -181,6 +195,7 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
         const Vec<Dim> x_w = row<Dim>(Q.x, w);
         double sum_w = 0, sum_pw = 0;
         Vec<Dim> sum_rho_r_w = Vec<Dim>::zero();
+        double sum_phase_force = 0;  // by phase: sum_f rho_f W F_f . r
         for (int k = walls.begin(w); k < walls.end(w); ++k) {
           const int f = walls.neighbour(k);
           Vec<Dim> r;
@@ -188,10 +203,11 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
           sum_w += W;
           sum_pw += Q.p(f) * W;
           sum_rho_r_w += (Q.rho(f) * W) * r;
+          if (by_phase) sum_phase_force += Q.rho(f) * W * dot(phase_force.of(f), r);
         }
-        Vec<Dim> relative_force = body_force;
+        Vec<Dim> relative_force = by_phase ? Vec<Dim>::zero() : body_force;
         if (accelerating && Q.grain(w) >= 0) relative_force -= wall_acceleration.of(Q.grain(w), row<Dim>(Q.wall_vector, w));
-        const double p = extrapolated_wall_pressure(sum_w, sum_pw, dot(relative_force, sum_rho_r_w),
+        const double p = extrapolated_wall_pressure(sum_w, sum_pw, dot(relative_force, sum_rho_r_w) + sum_phase_force,
                                                     sound_speed_sq * rest_density);
         const double rho = p / sound_speed_sq;
         Q.p(w) = p;
@@ -205,14 +221,17 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
 // change dp of the fluid's pressures (a value per slot, owned and ghosts):
 // extrapolate_wall_pressure differentiated for walls at rest, with the
 // fluid's density following its pressure (d rho_f = dp_f / c^2),
-//   dp_w = sum_f W_wf (1 + F . r_wf / c^2) dp_f / sum_f W_wf,
+//   dp_w = sum_f W_wf (1 + F . r_wf / c^2) dp_f / sum_f W_wf
+// (F the force on f's phase, given phase_force),
 // into dp(w); fluid slots are left as they are. Without fluid in reach, 0.
 template <int Dim, class ExecSpace, class Values>
 void extrapolate_wall_pressure_change(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
                                       const WallNeighbours<Dim, ExecSpace>& walls, const QuinticKernel<Dim>& kernel,
-                                      const Vec<Dim>& body_force, double sound_speed_sq, const Values& dp) {
+                                      const Vec<Dim>& body_force, double sound_speed_sq, const Values& dp,
+                                      const PhaseBodyForce<Dim, typename ExecSpace::memory_space>& phase_force = {}) {
   const auto Q = P;
   const bool cached = walls.has_geometry();
+  const bool by_phase = phase_force.active();
   static const std::string label = "poresph::extrapolate_wall_pressure_change";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int w) {
@@ -224,7 +243,7 @@ void extrapolate_wall_pressure_change(const ExecSpace& space, const Particles<Di
           Vec<Dim> r;
           const double W = wall_entry(walls, cached, k, x_w, Q.x, kernel, r);
           sum_w += W;
-          sum_dpw += (1.0 + dot(body_force, r) / sound_speed_sq) * W * dp(f);
+          sum_dpw += (1.0 + dot(by_phase ? phase_force.of(f) : body_force, r) / sound_speed_sq) * W * dp(f);
         }
         dp(w) = sum_w > 0 ? sum_dpw / sum_w : 0.0;
       });

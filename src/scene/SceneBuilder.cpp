@@ -277,6 +277,7 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const double radius = second.get<double>("Region Radius");
   const double k = phases.get<double>("Single Phase Permeability");
   const double sigma = phases.get<double>("Surface Tension");
+  const std::string driven = phases.get<std::string>("Driven Phase");
   const auto& drainage = second.sublist("Drainage");
   const double drain_saturation = drainage.get<double>("Saturation"), drain_radius = drainage.get<double>("Radius");
   const std::string inlet = drainage.get<std::string>("Inlet");
@@ -298,6 +299,7 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
     if (k != 0)
       fail("Phases/Single Phase Permeability gives the relative permeabilities of two phases, and Phases/Count = 1");
     if (sigma != 0) fail("Phases/Surface Tension acts between two phases, and Phases/Count = 1");
+    if (driven != "both") fail("Phases/Driven Phase = " + driven + " chooses between two phases, and Phases/Count = 1");
     return;
   }
   const int dim = scene.dimension;
@@ -451,7 +453,11 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   if (k > 0 && !(body_force_magnitude(scene) > 0))
     fail("Phases/Single Phase Permeability gives relative permeabilities, which need the driving force: "
          "Fluid/Body Force is zero");
+  if (driven != "both" && !(body_force_magnitude(scene) > 0))
+    fail("Phases/Driven Phase = " + driven + " names the phase Fluid/Body Force acts on, and Fluid/Body Force is "
+         "zero");
   scene.phases = {outside, inside};
+  scene.driven_phase = driven == "both" ? -1 : std::stoi(driven);
   scene.single_phase_permeability = k;
   scene.surface_tension = sigma;
   scene.colour = phases.get<std::string>("Colour") == "phase" ? ColourFunction::Phase : ColourFunction::VolumeFraction;

@@ -177,7 +177,12 @@ struct SceneConfig {
   // none of its machinery runs (physics/SurfaceTension.hpp).
   double surface_tension = 0;
   ColourFunction colour = ColourFunction::VolumeFraction;
+  // Phases/Driven Phase: the phase the body force acts on (0 or 1); -1:
+  // both. The other phase is moved only by its neighbours (viscous coupling).
+  int driven_phase = -1;
   bool has_phases() const { return !phases.empty(); }
+  // The body force's share on a phase: 1 where it acts, 0 where it does not.
+  double phase_force_share(int phase) const { return driven_phase < 0 || driven_phase == phase ? 1.0 : 0.0; }
 
   WallType walls = WallType::None;
   double lower_wall_velocity = 0.0;  // along x
