@@ -54,6 +54,43 @@ TEST(Grains, FileErrorsNameTheLine) {
   EXPECT_NE(error_of([&] { read_grain_file("/nonexistent/grains.txt", 2); }).find("cannot open"), std::string::npos);
 }
 
+// Moving grains may each take their solid's density as a last column,
+// under a header that names it; a column more without one is refused (it
+// may be an id), as is a line without the density the header promises.
+TEST(Grains, FileGivesEachGrainItsDensityUnderAHeaderNamingIt) {
+  const auto path = write_file("grains-density.txt", "# two grains\ncx cy r density\n0.3 0.3 0.1 2500\n0.7 0.7 0.05 1200\n");
+  const auto grains = read_grain_file(path, 2);
+  ASSERT_EQ(grains.size(), 2u);
+  EXPECT_EQ(grains[0].density, 2500.0);
+  EXPECT_EQ(grains[1].density, 1200.0);
+  EXPECT_EQ(grains[1].radius, 0.05);
+  EXPECT_EQ(read_grain_file(write_file("grains-rho.csv", "x,y,r,rho\n0.3,0.3,0.1,2500\n"), 2)[0].density, 2500.0);
+  EXPECT_EQ(read_grain_file(write_file("grains-plain.txt", "0.3 0.3 0.1\n"), 2)[0].density, 0.0);
+  const auto no_header = write_file("grains-no-header.txt", "0.3 0.3 0.1 2500\n");
+  EXPECT_NE(error_of([&] { read_grain_file(no_header, 2); })
+                .find(":1: expected 3 numbers (cx cy r), found 4; a density column needs a first line naming the columns"),
+            std::string::npos)
+      << error_of([&] { read_grain_file(no_header, 2); });
+  const auto missing = write_file("grains-missing-density.txt", "cx cy r density\n0.3 0.3 0.1 2500\n0.7 0.7 0.05\n");
+  EXPECT_NE(error_of([&] { read_grain_file(missing, 2); }).find(":3: expected 4 numbers (cx cy r density"),
+            std::string::npos)
+      << error_of([&] { read_grain_file(missing, 2); });
+  const auto id_header = write_file("grains-id.txt", "id cx cy r\n1 0.3 0.3 0.1\n");
+  EXPECT_NE(error_of([&] { read_grain_file(id_header, 2); }).find(":1: the header names 4 columns"), std::string::npos);
+  const auto zero = write_file("grains-zero-density.txt", "cx cy r density\n0.3 0.3 0.1 0\n");
+  EXPECT_NE(error_of([&] { read_grain_file(zero, 2); }).find(":2: density 0 kg/m^3: a grain's density must be positive"),
+            std::string::npos);
+  // grains_used.txt keeps the column and reads back to the same bits.
+  SceneConfig scene = unit_cell();
+  scene.grains = grains;
+  const auto again = read_grain_file(write_file("grains-density-again.txt", grains_used_text(scene)), 2);
+  ASSERT_EQ(again.size(), 2u);
+  for (size_t g = 0; g < 2; ++g) {
+    EXPECT_EQ(again[g].density, grains[g].density);
+    EXPECT_EQ(again[g].radius, grains[g].radius);
+  }
+}
+
 TEST(Grains, InlineListNeedsWholeGrains) {
   EXPECT_EQ(grains_from_list({0.5, 0.5, 0.1, 0.2, 0.2, 0.05}, 2).size(), 2u);
   EXPECT_FALSE(error_of([] { grains_from_list({0.5, 0.5, 0.1, 0.2}, 2); }).empty());

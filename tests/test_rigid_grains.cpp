@@ -68,6 +68,45 @@ TEST(RigidGrains, FluidAndGrainsConserveMomentum) {
               after[1] - before[1], scale, grain_momentum);
 }
 
+// Grains of their own densities (the grain file's column): each body's
+// mass is its density times its volume, the heavier and the lighter grain
+// exchange momentum with the fluid as exactly as grains of one density.
+TEST(RigidGrains, GrainsOfTheirOwnDensitiesConserveMomentum) {
+  SceneConfig scene = free_grains(30);
+  scene.grain_density = 0;
+  scene.grains[0].density = 1.5;
+  scene.grains[1].density = 6.0;
+  Simulation<2, Space> sim(scene);
+  const auto& bodies = sim.rigid_grains().bodies();
+  for (int g = 0; g < 2; ++g)
+    EXPECT_DOUBLE_EQ(bodies[g].mass, scene.grains[g].density * M_PI * scene.grains[g].radius * scene.grains[g].radius);
+  testing::randomise_velocities(sim.particles(), 0.02, 11);
+  sim.compute_rates();
+  double scale = 0;
+  const Vec<2> before = total_momentum(sim, scale);
+  for (int s = 0; s < 200; ++s) sim.step();
+  const Vec<2> after = total_momentum(sim, scale);
+  for (int d = 0; d < 2; ++d) EXPECT_LT(std::abs(after[d] - before[d]), 1e-13 * scale) << "direction " << d;
+  EXPECT_GT(std::hypot(bodies[0].velocity[0], bodies[0].velocity[1]), 0.0);
+}
+
+// Each grain given Grains/Density's value in the file runs as Grains/Density, bit for bit.
+TEST(RigidGrains, OwnDensitiesAllAlikeAreGrainsDensity) {
+  SceneConfig common = free_grains(20);
+  common.gravity = {0.0, -0.5, 0.0};
+  SceneConfig own = common;
+  own.grain_density = 0;
+  for (Grain& g : own.grains) g.density = common.grain_density;
+  Simulation<2, Space> a(common), b(own);
+  for (int s = 0; s < 100; ++s) a.step(), b.step();
+  for (int g = 0; g < 2; ++g)
+    for (int d = 0; d < 2; ++d) {
+      EXPECT_EQ(a.rigid_grains().bodies()[g].centre[d], b.rigid_grains().bodies()[g].centre[d]);
+      EXPECT_EQ(a.rigid_grains().bodies()[g].velocity[d], b.rigid_grains().bodies()[g].velocity[d]);
+    }
+  EXPECT_LT(a.rigid_grains().bodies()[0].velocity[1], 0.0);  // they fall
+}
+
 // Moving fluid cannot leave through a channel's wall: a particle carried
 // past the top wall into the wall's layers is put back on the wall at the
 // step's end, without its velocity into the wall, and the correction counts.

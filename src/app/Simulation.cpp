@@ -38,7 +38,9 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
     // up to the solid's density over the fluid's.
     double gravity = 0.0;
     for (int d = 0; d < dim; ++d) gravity += scene.gravity[d] * scene.gravity[d];
-    force_norm = std::max(force_norm, std::sqrt(gravity) * std::max(1.0, scene.grain_density / scene.density));
+    double heaviest = 0.0;
+    for (const Grain& g : scene.grains) heaviest = std::max(heaviest, scene.density_of(g));
+    force_norm = std::max(force_norm, std::sqrt(gravity) * std::max(1.0, heaviest / scene.density));
   }
   // A component can be finite while its square overflows; either way no
   // time step follows from it, and "no flow scale" would be the wrong reason.

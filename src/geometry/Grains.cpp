@@ -21,6 +21,12 @@
 namespace poresph {
 namespace {
 
+std::string word_of(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
 double squared_distance(const std::array<double, 3>& d, int dim) {
   double s = 0;
   for (int k = 0; k < dim; ++k) s += d[k] * d[k];
@@ -39,6 +45,12 @@ std::vector<Grain> read_grain_file(const std::string& path, int dimension) {
   std::vector<Grain> grains;
   std::string line;
   bool header_allowed = true;
+  // A grain is its centre and radius, and optionally its solid's density:
+  // the density column only under a header that names it last (a column
+  // more without one may be an id, and is refused as before).
+  const std::string columns = dimension == 2 ? "cx cy r" : "cx cy cz r";
+  const int plain = dimension + 1, with_density = dimension + 2;
+  int per_grain = plain;
   for (int number = 1; std::getline(in, line); ++number) {
     // A text editor's UTF-8 byte order mark is no part of the first number;
     // a file in UTF-16 (every other byte zero) is not read as garbage numbers.
@@ -67,11 +79,16 @@ std::vector<Grain> read_grain_file(const std::string& path, int dimension) {
       return std::isalpha(static_cast<unsigned char>(w[0])) && end == w.c_str();
     });
     if (header_allowed && names_only) {
-      if (static_cast<int>(words.size()) != dimension + 1)
+      const int named = static_cast<int>(words.size());
+      std::string last = words.back();
+      for (char& c : last) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      const bool density_named = last.rfind("dens", 0) == 0 || last == "rho";
+      if (named != plain && !(named == with_density && density_named))
         throw std::invalid_argument(path + ":" + std::to_string(number) + ": the header names " +
-                                    std::to_string(words.size()) + " columns; a grain has " +
-                                    std::to_string(dimension + 1) + " (" + (dimension == 2 ? "cx cy r" : "cx cy cz r") +
-                                    ")");
+                                    std::to_string(named) + " columns; a grain has " + std::to_string(plain) + " (" +
+                                    columns + "), or " + std::to_string(with_density) + " with its density last (" +
+                                    columns + " density)");
+      per_grain = named;
       header_allowed = false;
       continue;
     }
@@ -83,15 +100,25 @@ std::vector<Grain> read_grain_file(const std::string& path, int dimension) {
         throw std::invalid_argument(path + ":" + std::to_string(number) + ": '" + word + "' " + parsed.problem);
       values.push_back(*parsed.value);
     }
-    if (static_cast<int>(values.size()) != dimension + 1)
-      throw std::invalid_argument(path + ":" + std::to_string(number) + ": expected " +
-                                  std::to_string(dimension + 1) + " numbers (" +
-                                  (dimension == 2 ? "cx cy r" : "cx cy cz r") + "), found " +
-                                  std::to_string(values.size()));
+    const int found = static_cast<int>(values.size());
+    if (found != per_grain)
+      throw std::invalid_argument(
+          path + ":" + std::to_string(number) + ": expected " + std::to_string(per_grain) + " numbers (" + columns +
+          (per_grain == with_density ? " density, as the header names them" : "") + "), found " +
+          std::to_string(found) +
+          (found == with_density ? "; a density column needs a first line naming the columns, '" + columns +
+                                       " density'"
+                                 : ""));
     Grain g;
     for (int d = 0; d < dimension; ++d) g.centre[d] = values[d];
     g.radius = values[dimension];
     g.origin = path + ":" + std::to_string(number);
+    if (found == with_density) {
+      g.density = values[dimension + 1];
+      if (!(g.density > 0))
+        throw std::invalid_argument(path + ":" + std::to_string(number) + ": density " + word_of(g.density) +
+                                    " kg/m^3: a grain's density must be positive");
+    }
     grains.push_back(g);
   }
   if (in.bad()) throw std::invalid_argument(cannot + std::strerror(errno));
@@ -338,15 +365,24 @@ std::string grain_file_text(const std::vector<Grain>& grains, int dimension, con
   std::string text;
   std::istringstream lines(header);
   for (std::string line; std::getline(lines, line);) text += "# " + line + "\n";
-  text += dimension == 2 ? "# cx cy r (m)\n" : "# cx cy cz r (m)\n";
+  // Densities (the grain file's column) are written back when the grains
+  // have them, under the header line that names the column.
+  const bool densities = !grains.empty() && grains.front().density > 0;
+  const std::string columns = dimension == 2 ? "cx cy r" : "cx cy cz r";
+  text += densities ? "# centre and radius (m), density (kg/m^3)\n" + columns + " density\n" : "# " + columns + " (m)\n";
   char buffer[48];
   for (const auto& g : grains) {
     for (int d = 0; d < dimension; ++d) {
       std::snprintf(buffer, sizeof buffer, "%.17g ", g.centre[d]);
       text += buffer;
     }
-    std::snprintf(buffer, sizeof buffer, "%.17g\n", g.radius);
+    std::snprintf(buffer, sizeof buffer, "%.17g", g.radius);
     text += buffer;
+    if (densities) {
+      std::snprintf(buffer, sizeof buffer, " %.17g", g.density);
+      text += buffer;
+    }
+    text += "\n";
   }
   return text;
 }

@@ -78,6 +78,15 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
     const ContactMaterial& c = scene.grain_contact;
     entries.emplace_back("Grains/Motion", scene.grain_motion == GrainMotion::Free ? "free" : "rotating");
     entries.emplace_back("Grains/Density", number(scene.grain_density));
+    if (scene.grain_densities_given()) {  // (named only when given: the checkpoints of earlier runs still match)
+      std::vector<double> densities;
+      for (const auto& g : scene.grains) densities.push_back(g.density);
+      char sum[20];
+      std::snprintf(sum, sizeof sum, "%016llx",
+                    static_cast<unsigned long long>(
+                        row_checksum(densities.data(), static_cast<long long>(densities.size()), 1, 0)));
+      entries.emplace_back("Grains/File densities", sum);
+    }
     entries.emplace_back("Grains/Gravity", list(scene.gravity.data(), D));
     entries.emplace_back("Grains/Held", list(scene.held_grains.data(), static_cast<int>(scene.held_grains.size())));
     if (!scene.prescribed_grains.empty())  // (named only when given: the checkpoints of earlier runs still match)

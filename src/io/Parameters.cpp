@@ -252,8 +252,10 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("File", std::string(""),
           "Text file of grains, one a line: 'cx cy r' (2D) or 'cx cy cz r' (3D), separated by blanks, commas or "
           "semicolons (as DEM and packing tools write them), '#' comments, and an optional first line naming "
-          "the columns. A relative path is relative to the scene file's folder. Every grain scene writes the "
-          "grains it used to grains_used.txt in its output directory, in this format.");
+          "the columns. Moving grains (Grains/Motion) may take each its own solid density (kg/m^3) as one more "
+          "column, 'cx cy r density' ('cx cy cz r density'), on every line, instead of Grains/Density. A "
+          "relative path is relative to the scene file's folder. Every grain scene writes the grains it used to "
+          "grains_used.txt in its output directory, in this format.");
     s.set("Inline", Array<double>(), "Grains in the XML: cx, cy, r, cx, cy, r, ... (cx, cy, cz, r in 3D).",
           reals_in(-kHuge, kHuge));
     s.set("Allow Overlap", false, "Accept overlapping grains; otherwise an overlap is an error naming them.");
@@ -261,10 +263,11 @@ RCP<ParameterList> make_valid_parameters() {
           "'fixed': the grains hold still. 'free': each grain is a rigid body that the fluid's force and torque "
           "(summed over its boundary particles from the pair terms) and Grains/Gravity move and turn. "
           "'rotating': each grain keeps its centre and turns freely. Moving grains need moving fluid "
-          "(Discretization/Particle Motion = lagrangian) and Grains/Density.",
+          "(Discretization/Particle Motion = lagrangian) and Grains/Density (or each grain's in Grains/File).",
           one_of({"fixed", "free", "rotating"}));
     s.set("Density", 0.0, "Density of the grains' solid (kg/m^3), for their mass and moment of inertia "
-                          "(Grains/Motion free or rotating).",
+                          "(Grains/Motion free or rotating); 0 with a density column in Grains/File, which gives "
+                          "each grain its own.",
           real_in(0.0, kHuge));
     s.set("Gravity", Array<double>(),
           "Gravity (m/s^2), one value per direction, on moving grains and the fluid alike. In a periodic cell the "

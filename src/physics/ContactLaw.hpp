@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -125,15 +126,20 @@ struct ContactLaw {
   }
 };
 
-// The scene's shortest collision: two of its lightest (smallest) grains
-// meeting head on at `speed`, for Young's modulus `young`. (A grain against
-// a wall, or a lighter against a heavier one, takes longer.)
+// The scene's shortest collision: two grains alike meeting head on at
+// `speed`, for Young's modulus `young`, the shortest over the scene's
+// grains (the smallest, or with densities of their own the lightest for
+// its size). A grain against a wall, or a lighter against a heavier one,
+// takes longer.
 template <int Dim>
 double shortest_collision(const SceneConfig& scene, double young, double speed) {
-  double smallest = scene.grains.at(0).radius;
-  for (const Grain& g : scene.grains) smallest = std::min(smallest, g.radius);
-  const double mass = scene.grain_density * ball_volume(smallest, Dim);
-  return ContactLaw<Dim>(young, scene.grain_contact, 0.0).collision_time(0.5 * mass, 0.5 * smallest, speed, false);
+  const ContactLaw<Dim> law(young, scene.grain_contact, 0.0);
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const Grain& g : scene.grains) {
+    const double mass = scene.density_of(g) * ball_volume(g.radius, Dim);
+    shortest = std::min(shortest, law.collision_time(0.5 * mass, 0.5 * g.radius, speed, false));
+  }
+  return shortest;
 }
 
 // The Young's modulus that makes the scene's shortest collision at `speed`

@@ -154,7 +154,7 @@ class RigidGrains {
       start(scene.grain_spin, kSpin, b.spin.data());
       b.radius = g.radius;
       b.volume = ball_volume(g.radius, Dim);
-      b.mass = scene.grain_density * b.volume;
+      b.mass = scene.density_of(g) * b.volume;
       b.inertia = (Dim == 2 ? 0.5 : 0.4) * b.mass * g.radius * g.radius;
       grain_mass += b.mass, grain_volume += b.volume;
       bodies_.push_back(b);

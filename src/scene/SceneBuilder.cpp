@@ -132,6 +132,9 @@ void read_grain_motion(const ParameterList& grains, SceneConfig& scene) {
     if (!prescribed.empty())
       throw ParameterError("Grains/Prescribed names grains that keep their initial velocity and spin: with "
                            "Grains/Motion = fixed they all hold still (set Grains/Motion = free)");
+    if (scene.grain_densities_given())
+      scene.warnings.push_back("Grains/File gives each grain a density, which grains that hold still "
+                               "(Grains/Motion = fixed) do not use");
     return;
   }
   if (has_velocity && scene.grain_motion != GrainMotion::Free)
@@ -187,16 +190,29 @@ void read_grain_motion(const ParameterList& grains, SceneConfig& scene) {
   if (scene.particle_motion != ParticleMotion::Lagrangian)
     throw ParameterError("Grains/Motion = " + motion + " needs a fluid that moves with them: set "
                          "Discretization/Particle Motion = lagrangian (fixed particles stay on their lattice)");
-  if (!(scene.grain_density > 0))
+  // The grains' density: Grains/Density for all, or each its own from the grain file.
+  const bool own_densities = scene.grain_densities_given();
+  if (own_densities && scene.grain_density != 0)
+    throw ParameterError("Grains/Density and the grain file's density column both give the grains' density: give "
+                         "it one way (leave Grains/Density out, or the file's fourth column in 2D, fifth in 3D)");
+  if (!own_densities && !(scene.grain_density > 0))
     throw ParameterError("Grains/Motion = " + motion + " needs Grains/Density (kg/m^3) for the grains' mass and "
-                         "moment of inertia");
+                         "moment of inertia (or each grain's density as a column of Grains/File)");
   // The fluid a grain pushes aside acts on it like mass of its own (added
   // mass), which the explicit step meets a step late: for grains far
   // lighter than the fluid that lag grows from step to step
   // (docs/method.md, 'Grains that move').
-  if (scene.grain_motion == GrainMotion::Free && scene.grain_density < 0.25 * scene.density) {
+  const Grain* lightest = &scene.grains.front();
+  for (const Grain& g : scene.grains)
+    if (scene.density_of(g) < scene.density_of(*lightest)) lightest = &g;
+  const double density = scene.density_of(*lightest);
+  if (scene.grain_motion == GrainMotion::Free && density < 0.25 * scene.density) {
     std::ostringstream msg;
-    msg << "Grains/Density = " << scene.grain_density << " kg/m^3 is " << scene.grain_density / scene.density
+    if (own_densities)
+      msg << "grain " << lightest->origin << ": its density " << density << " kg/m^3 is ";
+    else
+      msg << "Grains/Density = " << density << " kg/m^3 is ";
+    msg << density / scene.density
         << " of the fluid's: grains much lighter than the fluid they displace move unstably under the explicit "
            "step (their added mass outweighs them); below about 0.2 of the fluid's density runs have failed";
     scene.warnings.push_back(msg.str());

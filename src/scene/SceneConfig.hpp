@@ -23,6 +23,7 @@ struct Grain {
   std::array<double, 3> centre{};
   double radius = 0;
   std::string origin;  // where it was defined, for messages: "grains.txt:12", "Grains/Inline #3"
+  double density = 0;  // kg/m^3, the grain file's density column (moving grains); 0: Grains/Density
 };
 // A segmented image as the solid (the Image sublist), instead of grains.
 struct ImageConfig {
@@ -159,6 +160,11 @@ struct SceneConfig {
   std::vector<int> prescribed_grains;  // Grains/Prescribed: grains that keep their initial velocity and spin
   ContactMaterial grain_contact;       // Grains/Contact
   bool moving_grains() const { return grain_motion != GrainMotion::Fixed && !grains.empty(); }
+  // A grain's solid density: its own from the grain file, or Grains/Density.
+  double density_of(const Grain& g) const { return g.density > 0 ? g.density : grain_density; }
+  bool grain_densities_given() const {
+    return !grains.empty() && std::all_of(grains.begin(), grains.end(), [](const Grain& g) { return g.density > 0; });
+  }
   // How the grains were made when PoreSPH made them (Grains/Random Pack):
   // the header of grains_used.txt. Empty for grains given in the scene.
   std::string grains_note;

@@ -236,6 +236,11 @@ def class_3_grains():
          r"inf.txt:2: 'inf' is not a finite number"),
         ("a number with trailing text", write(os.path.join(files, "trailing.txt"), "0.5 0.5x 0.1\n"),
          r"trailing.txt:1: '0.5x' is not a number"),
+        ("a column more without a header naming it", write(os.path.join(files, "extra.txt"), "0.5 0.5 0.1 2000\n"),
+         r"extra.txt:1: expected 3 numbers \(cx cy r\), found 4; a density column needs a first line naming"),
+        ("a grain without the density its header names",
+         write(os.path.join(files, "no-density.txt"), "cx cy r density\n0.3 0.5 0.1 2000\n0.7 0.5 0.1\n"),
+         r"no-density.txt:3: expected 4 numbers \(cx cy r density, as the header names them\), found 3"),
     ]
     for name, grain_file, message in cases:
         case(name + " is refused", [TINY, "--output", base, "--set", f"Grains/File={grain_file}"], 2, message,
@@ -244,7 +249,12 @@ def class_3_grains():
     grain = "Grains/Inline={0.5, 0.5, 0.2}"
     two_grains = "Grains/Inline={0.3, 0.5, 0.1, 0.7, 0.5, 0.1}"
     lagrangian = "Discretization/Particle Motion=lagrangian"
+    densities = "Grains/File=" + write(os.path.join(files, "densities.txt"),
+                                       "cx cy r density\n0.3 0.5 0.1 2000\n0.7 0.5 0.1 3000\n")
     motion_cases = [
+        ("grain densities both in the file and in Grains/Density",
+         [densities, "Grains/Motion=free", "Grains/Density=2000", lagrangian],
+         r"Grains/Density and the grain file's density column both give the grains' density: give it one way"),
         ("moving grains in a fixed fluid", [grain, "Grains/Motion=free", "Grains/Density=2000"],
          r"Grains/Motion = free needs a fluid that moves with them: set Discretization/Particle Motion = lagrangian"),
         ("moving grains without a density", [grain, "Grains/Motion=rotating", lagrangian],
