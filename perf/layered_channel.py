@@ -46,20 +46,25 @@ def main():
     parser.add_argument("--build", default="build")
     parser.add_argument("--out", default="build/layered-channel")
     parser.add_argument("--set", action="append", default=[], help="more --set settings for every run")
+    parser.add_argument("--force", type=float, default=F,
+                        help="Fluid/Body Force along x (m/s^2); smaller keeps Re low at ratios well below 1")
+    parser.add_argument("--ratios", type=float, nargs="+", default=[0.1, 1.0, 10.0], help="nu_1 / nu_0")
+    parser.add_argument("--across", type=int, nargs="+", default=[20, 40, 80], help="particles across the channel")
     parser.add_argument("--driven", default="both", choices=("both", "0", "1"),
                         help="Phases/Driven Phase: the force on both layers, or on the lower (0) or upper (1) alone")
     args = parser.parse_args()
     shares = (0.0 if args.driven == "1" else 1.0, 0.0 if args.driven == "0" else 1.0)
     print("| nu_1/nu_0 | across | max abs(v_x - u)/u_max (%) | k_r,0 (closed form) | k_r,1 (closed form) | wall s |")
     print("|---|---|---|---|---|---|")
-    for ratio in (0.1, 1.0, 10.0):
-        u, peak, kr = layered(RHO * NU, RHO * NU * ratio, shares)
-        for across in (20, 40, 80):
+    for ratio in args.ratios:
+        u, peak, kr = layered(RHO * NU, RHO * NU * ratio, shares, G=RHO * args.force)
+        for across in args.across:
             directory = os.path.join(args.out, f"ratio{ratio:g}-{across}-driven-{args.driven}")
             summary = run_poresph(args.build, "two_phase/layered_poiseuille.xml", directory,
                                   [f"Phases/Phase 1/Kinematic Viscosity={NU * ratio!r}",
                                    f"Discretization/Particle Spacing={H / across!r}",
-                                   f"Phases/Driven Phase={args.driven}"] + args.set)
+                                   f"Phases/Driven Phase={args.driven}",
+                                   f"Fluid/Body Force={{{args.force!r}, 0.0}}"] + args.set)
             worst = 0.0
             with open(os.path.join(directory, "particles.csv")) as rows:
                 for row in csv.DictReader(rows):

@@ -246,6 +246,14 @@ TEST(TwoPhase, BadInputIsRefusedByName) {
   // Phase 1 with one phase: said, not ignored.
   m = refusal([](auto& l) { l.sublist("Phases").set("Count", 1); });
   EXPECT_TRUE(has(m, "Phases/Phase 1 is given, but Phases/Count = 1")) << m;
+  // Viscosity ratios beyond the validated 0.01 to 100 (Fluid/Kinematic Viscosity is 1e-2 here).
+  m = refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Kinematic Viscosity", 1.5); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Kinematic Viscosity = 1.5 is 150 times Fluid/Kinematic Viscosity")) << m;
+  EXPECT_TRUE(has(m, "viscosity ratios from 0.01 to 100 are supported")) << m;
+  m = refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Kinematic Viscosity", 5e-5); });
+  EXPECT_TRUE(has(m, "is 0.005 times Fluid/Kinematic Viscosity")) << m;
+  EXPECT_EQ(refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Kinematic Viscosity", 1.0); }), "");
+  EXPECT_EQ(refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Kinematic Viscosity", 1e-4); }), "");
   m = refusal([](auto& l) { l.sublist("Phases").set("Driven Phase", std::string("2")); });
   EXPECT_TRUE(has(m, "Driven Phase")) << m;
   m = refusal([](auto& l) {

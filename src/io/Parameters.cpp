@@ -191,8 +191,8 @@ RCP<ParameterList> make_valid_parameters() {
           "for now: any other value is refused.",
           real_in(0.0, kHuge));
     p.set("Kinematic Viscosity", 0.0,
-          "REQUIRED with Count = 2. Kinematic viscosity nu of the phase (m^2/s), > 0; its dynamic viscosity is "
-          "its density times nu.",
+          "REQUIRED with Count = 2. Kinematic viscosity nu of the phase (m^2/s), > 0, from 0.01 to 100 times "
+          "Fluid/Kinematic Viscosity (the ratios validated); its dynamic viscosity is its density times nu.",
           real_in(0.0, kHuge));
     p.set("Region Low", Array<double>(),
           "Lower corner of the axis-aligned box [low, high) the phase fills, one value per direction, inside "
