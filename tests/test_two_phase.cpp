@@ -349,7 +349,25 @@ TEST(TwoPhase, BadDrainageIsRefusedByName) {
   EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage/Saturation = 1.5 must lie in (0, 1]")) << m;
   m = refusal([&](auto& l) { drained(l, 0.5), l.sublist("Phases").sublist("Phase 1").sublist("Drainage").set(
                                                   "Radius", 0.1); });
-  EXPECT_TRUE(has(m, "give Saturation or Radius, not both")) << m;
+  EXPECT_TRUE(has(m, "give Saturation, Radius or Capillary Pressure, one of them")) << m;
+  // A capillary pressure: positive, one way of choosing the step, with the surface tension it needs.
+  const auto at_pressure = [&](auto& l, double pc, double sigma) {
+    drained(l, 0.5);
+    auto& rule = l.sublist("Phases").sublist("Phase 1").sublist("Drainage");
+    rule.remove("Saturation");
+    rule.set("Capillary Pressure", pc);
+    rule.set("Surface Tension", sigma);
+  };
+  EXPECT_EQ(refusal([&](auto& l) { at_pressure(l, 100.0, 0.07); }), "");
+  m = refusal([&](auto& l) { at_pressure(l, 100.0, 0.0); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage/Capillary Pressure needs Drainage/Surface Tension")) << m;
+  m = refusal([&](auto& l) { at_pressure(l, -5.0, 0.07); });
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage/Capillary Pressure = -5 must be positive (Pa)")) << m;
+  m = refusal([&](auto& l) {
+    at_pressure(l, 100.0, 0.07);
+    l.sublist("Phases").sublist("Phase 1").sublist("Drainage").set("Radius", 0.1);
+  });
+  EXPECT_TRUE(has(m, "give Saturation, Radius or Capillary Pressure, one of them")) << m;
   m = refusal([&](auto& l) { drained(l, 0.5), l.sublist("Phases").sublist("Phase 1").sublist("Drainage").set(
                                                   "Contact Angle", 90.0); });
   EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage/Contact Angle = 90 must lie in [0, 90)")) << m;
@@ -380,11 +398,11 @@ TEST(TwoPhase, BadDrainageIsRefusedByName) {
   EXPECT_TRUE(has(m, "not two")) << m;
   // The rest of the Drainage sublist without Saturation or Radius: said, not ignored.
   m = refusal([&](auto& l) { l.sublist("Phases").sublist("Phase 1").sublist("Drainage").set("Trapping", true); });
-  EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage is given without Saturation or Radius")) << m;
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage is given without Saturation, Radius or Capillary Pressure")) << m;
   m = refusal([&](auto& l) {
     l.sublist("Phases").sublist("Phase 1").sublist("Drainage").set("Contact Angle", 30.0);
   });
-  EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage is given without Saturation or Radius")) << m;
+  EXPECT_TRUE(has(m, "Phases/Phase 1/Drainage is given without Saturation, Radius or Capillary Pressure")) << m;
   // Image Values without an image.
   m = refusal([&](auto& l) {
     auto& second = l.sublist("Phases").sublist("Phase 1");
@@ -437,6 +455,35 @@ TEST(TwoPhase, DrainageFillsAChannelUpToItsHalfWidth) {
   EXPECT_DOUBLE_EQ(small.drainage.saturation, 1.0);
   ASSERT_FALSE(small.warnings.empty());
   EXPECT_NE(small.warnings[0].find("is below half a particle spacing"), std::string::npos) << small.warnings[0];
+}
+
+// Drainage/Capillary Pressure is the radius of the Young-Laplace law: at
+// Pc = sigma cos(theta) / (19.25 spacings) (2D) the channel fills as at that
+// radius (19.5 spacings is the widest ball) and reports that Pc; a Pc too
+// low for any ball to enter is refused.
+TEST(TwoPhase, DrainageAtACapillaryPressureIsDrainageAtItsRadius) {
+  const double H = 1e-3, dx = H / 40, sigma = 0.02;
+  const auto at_pressure = [&](double pc, double angle) {
+    std::ostringstream text;
+    text.precision(17);
+    text << "Phases/Phase 1/Drainage/Capillary Pressure=" << pc;
+    return std::vector<std::string>{"Phases/Phase 1/Region Low={}", "Phases/Phase 1/Region High={}", text.str(),
+                                    "Phases/Phase 1/Drainage/Surface Tension=0.02",
+                                    "Phases/Phase 1/Drainage/Contact Angle=" + std::to_string(angle),
+                                    "Solver/Method=steady"};
+  };
+  const double pc = sigma * 0.5 / (19.25 * dx);  // cos 60 = 0.5
+  const RunReport report = run_input("two_phase/layered_poiseuille.xml", at_pressure(pc, 60), "drain-channel-pc");
+  ASSERT_TRUE(report.drainage.placed);
+  EXPECT_NEAR(report.drainage.radius / (19.25 * dx), 1.0, 1e-12);
+  EXPECT_NEAR(report.drainage.capillary_pressure / pc, 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(report.drainage.saturation, 1.0);
+  const std::string m = testing::error_of<std::exception>([&] {
+    run_input("two_phase/layered_poiseuille.xml", at_pressure(sigma * 0.5 / (19.6 * dx), 60), "drain-channel-pc-low");
+  });
+  EXPECT_NE(m.find("Phases/Phase 1/Drainage/Capillary Pressure = "), std::string::npos) << m;
+  EXPECT_NE(m.find("no ball of that radius reaches from the inlet"), std::string::npos) << m;
+  EXPECT_NE(m.find("make it larger"), std::string::npos) << m;
 }
 
 // Problem III at a coarse spacing drained to half its pore space: the

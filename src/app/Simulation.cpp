@@ -298,10 +298,16 @@ void Simulation<Dim, ExecSpace>::place_phases() {
         double entering = 0;  // the largest step of the curve at which balls enter
         for (const auto& step : drainage_.curve)
           if (step.saturation > 0) entering = std::max(entering, step.radius);
-        msg << "Phases/Phase " << p << "/Drainage/Radius = " << drainage_.radius
-            << ": no ball of that radius reaches from the inlet into the pore space, so the phase holds no fluid "
+        const auto& rule = scene_.phases[p].drainage;
+        if (rule.capillary_pressure > 0)
+          msg << "Phases/Phase " << p << "/Drainage/Capillary Pressure = " << rule.capillary_pressure
+              << " Pa (balls of radius " << drainage_.radius << ")";
+        else
+          msg << "Phases/Phase " << p << "/Drainage/Radius = " << drainage_.radius;
+        msg << ": no ball of that radius reaches from the inlet into the pore space, so the phase holds no fluid "
                "particle (balls of radius "
-            << entering << " enter); make it smaller";
+            << entering << " enter); make it "
+            << (rule.capillary_pressure > 0 ? "larger (the radius smaller)" : "smaller");
       } else {
         msg << "Phases/Phase " << p
             << (scene_.phases[p].round() ? "/Region Centre and Region Radius: the disc (sphere)"

@@ -109,7 +109,7 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
     } else if (second.drained()) {
       const auto& rule = second.drainage;
       entries.emplace_back("Phases/Phase 1/Drainage/Saturation", number(rule.saturation));
-      entries.emplace_back("Phases/Phase 1/Drainage/Radius", number(rule.radius));
+      entries.emplace_back("Phases/Phase 1/Drainage/Radius", number(rule.radius));  // or the capillary pressure's
       entries.emplace_back("Phases/Phase 1/Drainage/Inlet",
                            rule.inlet_anywhere ? std::string("anywhere") : std::string(1, "xyz"[rule.inlet_axis]));
       entries.emplace_back("Phases/Phase 1/Drainage/Trapping", rule.trapping ? "true" : "false");

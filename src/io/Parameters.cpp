@@ -218,14 +218,21 @@ RCP<ParameterList> make_valid_parameters() {
         "morphological rule of Hilpert & Miller (2001): at ball radius r it fills every ball of radius r that "
         "fits in the pore space and whose centre reaches the inlet through centres of such balls; capillary "
         "pressure Pc = (dim - 1) sigma cos(theta) / r. Measured on the fixed particles' lattice; needs a solid "
-        "(grains, an image or walls). Give Saturation or Radius. The run writes drainage.csv, the saturation "
-        "against r (and Pc) down to half a spacing, and summary.json's 'drainage' (docs/method.md).");
+        "(grains, an image or walls). Give Saturation, Radius or Capillary Pressure. The run writes "
+        "drainage.csv, the saturation against r (and Pc) down to half a spacing, and summary.json's "
+        "'drainage' (docs/method.md).");
     drainage.set("Saturation", 0.0,
                  "Target saturation of the phase in (0, 1]: r is that of the drainage's first step (a row of "
                  "drainage.csv) that fills at least this share of the fluid particles. 0: Radius sets r (a row "
                  "of drainage.csv too).",
                  real_in(0.0, kHuge));
-    drainage.set("Radius", 0.0, "The ball radius r (m), > 0. 0: Saturation sets r.", real_in(-kHuge, kHuge));
+    drainage.set("Radius", 0.0, "The ball radius r (m), > 0. 0: Saturation or Capillary Pressure sets r.",
+                 real_in(-kHuge, kHuge));
+    drainage.set("Capillary Pressure", 0.0,
+                 "The capillary pressure Pc (Pa), > 0, instead of Saturation or Radius: the balls' radius is "
+                 "r = (dim - 1) sigma cos(theta) / Pc, with Surface Tension (required) and Contact Angle. 0: "
+                 "Saturation or Radius sets r.",
+                 real_in(-kHuge, kHuge));
     drainage.set("Inlet", std::string("x"),
                  "Where the phase enters: 'x', 'y' or 'z', the cell's face across that (periodic) axis (a reservoir "
                  "at x = 0, which across the periodic face is also x = L), or 'anywhere' (every ball that fits is "

@@ -290,8 +290,7 @@ DrainagePlacement place_by_drainage(const PhaseConfig::Drainage& rule, const Dra
     throw std::invalid_argument(msg.str());
   }
   placed.radius = r * dx;
-  const double pi = std::acos(-1.0);
-  placed.curvature = (lattice.dimension - 1) * std::cos(rule.contact_angle * pi / 180) / placed.radius;
+  placed.curvature = drainage_curvature(lattice.dimension, rule.contact_angle, placed.radius);
   placed.capillary_pressure = rule.surface_tension * placed.curvature;
   for (auto& step : placed.curve) step.radius *= dx;
   return placed;

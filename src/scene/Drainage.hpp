@@ -18,6 +18,7 @@
 // alike. Saturations are shares of fluid points (fixed particles all have
 // one volume).
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "scene/SceneConfig.hpp"
@@ -88,6 +89,16 @@ DrainageStep drain_to_saturation(const DrainageLattice& lattice, const std::vect
 // a row of the curve).
 std::vector<DrainageStep> drainage_curve(const DrainageLattice& lattice, const std::vector<double>& radius,
                                          const DrainageInlet& inlet, double also = 0);
+
+// The rule's Young-Laplace law both ways: the curvature (dim - 1) cos(theta)
+// / r of the interface that balls of radius r leave (theta in degrees,
+// through the wetting phase), and the radius at which sigma times it is Pc.
+inline double drainage_curvature(int dimension, double contact_angle, double radius) {
+  return (dimension - 1) * std::cos(contact_angle * std::acos(-1.0) / 180) / radius;
+}
+inline double drainage_radius(int dimension, double sigma, double contact_angle, double capillary_pressure) {
+  return sigma * drainage_curvature(dimension, contact_angle, 1.0) / capillary_pressure;
+}
 
 // A phase placed by the rule (PhaseConfig::Drainage) on a lattice of
 // spacing dx: the points it fills, the radius (m) and saturation there,

@@ -17,6 +17,7 @@
 #include "geometry/RandomPack.hpp"
 #include "geometry/Solid.hpp"
 #include "io/Parameters.hpp"
+#include "scene/Drainage.hpp"
 #include "scene/ImageScene.hpp"
 
 namespace poresph {
@@ -299,12 +300,13 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const std::string driven = phases.get<std::string>("Driven Phase");
   const auto& drainage = second.sublist("Drainage");
   const double drain_saturation = drainage.get<double>("Saturation"), drain_radius = drainage.get<double>("Radius");
+  const double drain_pressure = drainage.get<double>("Capillary Pressure");
   const std::string inlet = drainage.get<std::string>("Inlet");
   const double contact_angle = drainage.get<double>("Contact Angle");
   const double drain_sigma = drainage.get<double>("Surface Tension");
   const bool trapping = drainage.get<bool>("Trapping");
-  const bool drained = drain_saturation != 0 || drain_radius != 0;
-  // The rest of the Drainage sublist means nothing without Saturation or Radius.
+  const bool drained = drain_saturation != 0 || drain_radius != 0 || drain_pressure != 0;
+  // The rest of the Drainage sublist means nothing without Saturation, Radius or Capillary Pressure.
   const bool drainage_given =
       drained || trapping || contact_angle != 0 || drain_sigma != 0 || inlet != "x";
   const auto image_values = second.get<Array<int>>("Image Values");
@@ -350,11 +352,12 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
     fail("Phases/Phase 1: give its region one way: a box (Region Low, Region High), a disc/sphere (Region "
          "Centre, Region Radius), the Drainage sublist's rule or Image Values, not two");
   if (drainage_given && !drained)
-    fail("Phases/Phase 1/Drainage is given without Saturation or Radius: its Inlet, Trapping, Contact Angle and "
-         "Surface Tension mean nothing without them (give one, or leave the sublist out)");
+    fail("Phases/Phase 1/Drainage is given without Saturation, Radius or Capillary Pressure: its Inlet, Trapping, "
+         "Contact Angle and Surface Tension mean nothing without them (give one, or leave the sublist out)");
   if (!box && !round && !drained && !labelled)
     fail("Phases/Phase 1 needs its region with Phases/Count = 2: a box (Region Low, Region High), a "
-         "disc/sphere (Region Centre, Region Radius), Drainage/Saturation or Drainage/Radius, or Image Values");
+         "disc/sphere (Region Centre, Region Radius), Drainage/Saturation, Radius or Capillary Pressure, or Image "
+         "Values");
   PhaseConfig outside, inside;
   outside.name = "fluid";
   outside.density = scene.density;
@@ -375,12 +378,18 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
     auto& rule = inside.drainage;
     std::ostringstream msg;
     msg << std::setprecision(10);
-    if (drain_saturation != 0 && drain_radius != 0)
-      msg << "Phases/Phase 1/Drainage: give Saturation or Radius, not both";
+    if ((drain_saturation != 0) + (drain_radius != 0) + (drain_pressure != 0) > 1)
+      msg << "Phases/Phase 1/Drainage: give Saturation, Radius or Capillary Pressure, one of them";
     else if (drain_saturation != 0 && !(drain_saturation > 0 && drain_saturation <= 1))
       msg << "Phases/Phase 1/Drainage/Saturation = " << drain_saturation << " must lie in (0, 1]";
     else if (drain_radius != 0 && !(drain_radius > 0))
       msg << "Phases/Phase 1/Drainage/Radius = " << drain_radius << " must be positive (m): the balls' radius";
+    else if (drain_pressure != 0 && !(drain_pressure > 0))
+      msg << "Phases/Phase 1/Drainage/Capillary Pressure = " << drain_pressure
+          << " must be positive (Pa): phase 1's pressure over phase 0's";
+    else if (drain_pressure != 0 && !(drain_sigma > 0))
+      msg << "Phases/Phase 1/Drainage/Capillary Pressure needs Drainage/Surface Tension (N/m): the balls' radius "
+             "is (dim - 1) sigma cos(theta) / Pc";
     else if (!(contact_angle >= 0 && contact_angle < 90))
       msg << "Phases/Phase 1/Drainage/Contact Angle = " << contact_angle
           << " must lie in [0, 90) degrees (measured through phase 0, the wetting fluid): at 90 or more, phase 1 "
@@ -397,16 +406,24 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
       msg << "Phases/Phase 1/Drainage/Inlet = '" << inlet << "': the cell is closed by walls across that axis "
           << "(Domain/Periodic), so no phase enters there; name a periodic axis";
     if (!msg.str().empty()) fail(msg.str());
-    if (drain_radius > 0 && drain_radius < 0.5 * scene.particle_spacing) {
+    // A capillary pressure is a radius: the Young-Laplace law of the rule.
+    const double radius_given =
+        drain_pressure > 0 ? drainage_radius(dim, drain_sigma, contact_angle, drain_pressure) : drain_radius;
+    if (radius_given > 0 && radius_given < 0.5 * scene.particle_spacing) {
       std::ostringstream note;
-      note << std::setprecision(6) << "Phases/Phase 1/Drainage/Radius = " << drain_radius
-           << " is below half a particle spacing (" << 0.5 * scene.particle_spacing
+      note << std::setprecision(6) << "Phases/Phase 1/Drainage/";
+      if (drain_pressure > 0)
+        note << "Capillary Pressure = " << drain_pressure << " Pa gives balls of radius " << radius_given << ",";
+      else
+        note << "Radius = " << radius_given << " is";
+      note << " below half a particle spacing (" << 0.5 * scene.particle_spacing
            << "), the smallest ball the lattice resolves: phase 1 is placed as at that radius (every fluid "
               "particle the inlet reaches), and the capillary pressure reported is that of the radius given";
       scene.warnings.push_back(note.str());
     }
     rule.saturation = drain_saturation;
-    rule.radius = drain_radius;
+    rule.radius = radius_given;
+    rule.capillary_pressure = drain_pressure;
     rule.inlet_anywhere = inlet == "anywhere";
     rule.inlet_axis = rule.inlet_anywhere ? 0 : inlet[0] - 'x';
     rule.trapping = trapping;

@@ -76,7 +76,8 @@ struct PhaseConfig {
   // reaches a saturation.
   struct Drainage {
     double saturation = 0;  // > 0: the target saturation of this phase
-    double radius = 0;      // > 0: the ball radius (m)
+    double radius = 0;      // > 0: the ball radius (m), given or from the capillary pressure
+    double capillary_pressure = 0;  // > 0: Drainage/Capillary Pressure (Pa), which set the radius
     int inlet_axis = 0;
     bool inlet_anywhere = false;
     bool trapping = false;       // wetting phase cut off from the outlet stays
