@@ -15,6 +15,7 @@
 #include "app/RunPlan.hpp"
 #include "app/RunSummary.hpp"
 #include "app/Simulation.hpp"
+#include "diagnostics/LayeredChannel.hpp"
 #include "io/OutputDirectory.hpp"
 #include "io/Parameters.hpp"
 #include "scene/SceneBuilder.hpp"
@@ -238,6 +239,63 @@ TEST(Ladder, RestartsInTheMiddleOfALevel) {
     EXPECT_EQ(resumed.levels[l].warm_started, uninterrupted.levels[l].warm_started) << l;
   }
   EXPECT_EQ(resumed.permeability_uncertainty[0][0], uninterrupted.permeability_uncertainty[0][0]);
+}
+
+// Two fluids on the ladder: the layered channel at viscosity ratio 10 on
+// three levels; each level reports its phases, each k_r approaches its
+// closed form level by level, and the k_r extrapolated from them lies
+// within its own uncertainty of the closed form.
+TEST(Ladder, TwoFluidsReportTheirRelativePermeabilityWithItsUncertainty) {
+  const auto scene = scene_of("two_phase/layered_poiseuille.xml", {"Convergence/Levels=3"});
+  const auto report = run(scene, fresh_directory("phases"));
+  const double H = 1e-3, mu = 1e-3, F = 2e-4 * 1000;
+  const LayeredChannel exact{H, 0.5 * H, mu, 10 * mu, F};
+  const double closed[2] = {exact.lower_relative_permeability(), exact.upper_relative_permeability()};
+  ASSERT_EQ(report.levels.size(), 3u);
+  ASSERT_EQ(report.phases.size(), 2u);
+  for (int p = 0; p < 2; ++p) {
+    double error_before = INFINITY;
+    for (const auto& level : report.levels) {
+      ASSERT_TRUE(level.has_phases && level.has_relative_permeability);
+      EXPECT_DOUBLE_EQ(level.saturation[p], 0.5);
+      const double error = std::abs(level.relative_permeability[p] - closed[p]);
+      EXPECT_LT(error, error_before) << "phase " << p << " at spacing " << level.spacing;
+      error_before = error;
+    }
+    const auto& phase = report.phases[p];
+    EXPECT_EQ(phase.relative_permeability, report.levels.back().relative_permeability[p]);
+    ASSERT_TRUE(phase.has_extrapolation);
+    EXPECT_GT(phase.relative_permeability_uncertainty, 0.0);
+    EXPECT_LT(phase.relative_permeability_uncertainty, 0.01);
+    EXPECT_LT(std::abs(phase.relative_permeability_extrapolated / closed[p] - 1),
+              phase.relative_permeability_uncertainty)
+        << "phase " << p;
+    std::printf("phase %d: k_r %.5f, extrapolated %.5f +- %.2f %%, closed form %.5f\n", p,
+                phase.relative_permeability, phase.relative_permeability_extrapolated,
+                100 * phase.relative_permeability_uncertainty, closed[p]);
+  }
+  // A drainage target would be another saturation at each level: refused.
+  EXPECT_THROW(scene_of("two_phase/drainage_problem3.xml", {"Convergence/Levels=2"}), ParameterError);
+}
+
+// The levels' phases are kept in the checkpoints: a ladder of two fluids
+// stopped in its middle level and continued reports every level's phases
+// as the run in one go.
+TEST(Ladder, TwoFluidsRestartedInTheMiddleKeepEveryLevelsPhases) {
+  const auto scene = scene_of("two_phase/layered_poiseuille.xml",
+                              {"Convergence/Levels=3", "Solver/Method=explicit", "Run/Max Steps=400"});
+  const std::string whole = fresh_directory("phases-whole"), interrupted = fresh_directory("phases-interrupted");
+  const auto uninterrupted = run(scene, whole);
+  EXPECT_THROW(run(scene, interrupted, "", 1, 200), RunInterrupted);
+  const auto resumed = run(scene, interrupted, interrupted + "/checkpoint.h5");
+  EXPECT_EQ(resumed.restarted_from_step, 200);
+  ASSERT_EQ(resumed.levels.size(), 3u);
+  for (size_t l = 0; l < 3; ++l)
+    for (int p = 0; p < 2; ++p) {
+      EXPECT_GT(uninterrupted.levels[l].relative_permeability[p], 0.0);
+      EXPECT_EQ(resumed.levels[l].relative_permeability[p], uninterrupted.levels[l].relative_permeability[p]);
+      EXPECT_EQ(resumed.levels[l].saturation[p], uninterrupted.levels[l].saturation[p]);
+    }
 }
 
 TEST(Ladder, SpacingsAcrossThroatResolveTheNarrowestThroat) {

@@ -219,6 +219,9 @@ JsonObject RunReport::to_json() const {
           .add("axis", std::string(1, "xyz"[phase.axis]))
           .add("driven", phase.driven);
       if (phase.has_relative_permeability) entry.add("relative_permeability", phase.relative_permeability);
+      if (phase.has_extrapolation)
+        entry.add("relative_permeability_extrapolated", phase.relative_permeability_extrapolated)
+            .add("relative_permeability_uncertainty", phase.relative_permeability_uncertainty);
       entry.add("mass", phase.mass).add("mean_pressure", phase.mean_pressure);
       entries.push_back(entry);
     }
@@ -265,14 +268,26 @@ JsonObject RunReport::to_json() const {
       return t;
     };
     std::vector<JsonObject> per_level;
-    for (const auto& level : levels)
-      per_level.push_back(JsonObject()
-                              .add("spacing", level.spacing)
-                              .add("permeability", tensor(level.permeability))
-                              .add("steps", level.steps)
-                              .add("wall_seconds", level.wall_seconds)
-                              .add("warm_started", level.warm_started)
-                              .add("steady", level.steady));
+    for (const auto& level : levels) {
+      JsonObject entry;
+      entry.add("spacing", level.spacing)
+          .add("permeability", tensor(level.permeability))
+          .add("steps", level.steps)
+          .add("wall_seconds", level.wall_seconds)
+          .add("warm_started", level.warm_started)
+          .add("steady", level.steady);
+      if (level.has_phases) {
+        std::vector<JsonObject> phases_here;
+        for (int p = 0; p < 2; ++p) {
+          JsonObject phase;
+          phase.add("saturation", level.saturation[p]);
+          if (level.has_relative_permeability) phase.add("relative_permeability", level.relative_permeability[p]);
+          phases_here.push_back(phase);
+        }
+        entry.add("phases", phases_here);
+      }
+      per_level.push_back(entry);
+    }
     json.add("convergence", per_level)
         .add("permeability_extrapolated", tensor(permeability_extrapolated))
         .add("observed_order", observed_order)

@@ -107,6 +107,9 @@ struct RunReport {
     long long steps = 0;
     double wall_seconds = 0;
     bool warm_started = true, steady = true;
+    // Two fluids: each phase's saturation and k_r at this level.
+    bool has_phases = false, has_relative_permeability = false;
+    double saturation[2] = {0, 0}, relative_permeability[2] = {0, 0};
   };
   std::vector<Level> levels;
   double permeability_extrapolated[3][3] = {};

@@ -147,7 +147,30 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
       level.steady = level.steady && (!r.has_permeability || r.steady);
       if (r.has_permeability && r.axis >= 0)
         for (int i = 0; i < dim; ++i) level.permeability[i][r.axis] = r.k[i];
+      if (r.has_phases) {
+        level.has_phases = true, level.has_relative_permeability = r.has_relative_permeability;
+        for (int p = 0; p < 2; ++p)
+          level.saturation[p] = r.saturation[p], level.relative_permeability[p] = r.relative_permeability[p];
+      }
     }
+    // Each phase's k_r from the levels, as k's components are.
+    const bool phases_measured = std::all_of(report.levels.begin(), report.levels.end(), [](const auto& level) {
+      return level.has_relative_permeability;
+    });
+    if (phases_measured && report.phases.size() == 2)
+      for (int p = 0; p < 2; ++p) {
+        std::vector<double> spacings, values;
+        for (const auto& level : report.levels)
+          spacings.push_back(level.spacing), values.push_back(level.relative_permeability[p]);
+        const auto e = convergence_estimate(spacings, values);
+        auto& phase = report.phases[p];
+        phase.has_extrapolation = true;
+        phase.relative_permeability_extrapolated = e.extrapolated;
+        phase.relative_permeability_uncertainty = e.uncertainty;
+        if (!e.asymptotic)
+          report.warnings.push_back("the levels of phase " + std::to_string(p) + "'s k_r (" + phase.name +
+                                    ") are not in the asymptotic range: " + e.problem);
+      }
     double largest = 0;
     for (int i = 0; i < dim; ++i)
       for (int j = 0; j < dim; ++j) largest = std::max(largest, std::abs(report.permeability[i][j]));

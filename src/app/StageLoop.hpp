@@ -400,6 +400,13 @@ class StageLoop {
       r.relative_change = observed.relative_change;
       r.remaining_change = observed.remaining_change;
     }
+    if (observed.phases.size() == 2) {
+      r.has_phases = true;
+      r.has_relative_permeability = observed.phases[0].has_relative_permeability;
+      for (int p = 0; p < 2; ++p)
+        r.saturation[p] = observed.phases[p].saturation,
+        r.relative_permeability[p] = observed.phases[p].relative_permeability;
+    }
     records_.push_back(r);
   }
 

@@ -8,7 +8,7 @@ namespace poresph {
 // What a finished stage measured, kept in every later checkpoint
 // (RunState::completed_stages) so that a restarted run reports all of them.
 struct StageRecord {
-  static constexpr int kSize = 30;
+  static constexpr int kSize = 36;
   int level = 0, axis = -1;
   bool half_force = false;
   double spacing = 0;
@@ -24,6 +24,10 @@ struct StageRecord {
   long long nonlinear_iterations = 0, linear_iterations = 0, inner_iterations = 0, rate_evaluations = 0,
             partial_rate_evaluations = 0;
   double solver_residual = 0, solver_setup_seconds = 0, solver_solve_seconds = 0, solver_bytes_per_particle = 0;
+  // Two fluids (Phases): each phase's saturation and, with Phases/Single
+  // Phase Permeability, its relative permeability at the stage's end.
+  bool has_phases = false, has_relative_permeability = false;
+  double saturation[2] = {0, 0}, relative_permeability[2] = {0, 0};
 
   void append_to(std::vector<double>& values) const {
     const double v[kSize] = {double(level), double(axis), double(half_force), spacing, double(steps),
@@ -33,7 +37,9 @@ struct StageRecord {
                              double(solver_converged), double(nonlinear_iterations), double(linear_iterations),
                              double(rate_evaluations), solver_residual, solver_setup_seconds, solver_solve_seconds,
                              solver_bytes_per_particle, double(inner_iterations),
-                             double(partial_rate_evaluations)};
+                             double(partial_rate_evaluations), double(has_phases),
+                             double(has_relative_permeability), saturation[0], saturation[1],
+                             relative_permeability[0], relative_permeability[1]};
     values.insert(values.end(), v, v + kSize);
   }
   static StageRecord read(const double* v) {
@@ -52,6 +58,9 @@ struct StageRecord {
     r.solver_bytes_per_particle = v[27];
     r.inner_iterations = static_cast<long long>(v[28]);
     r.partial_rate_evaluations = static_cast<long long>(v[29]);
+    r.has_phases = v[30] != 0, r.has_relative_permeability = v[31] != 0;
+    r.saturation[0] = v[32], r.saturation[1] = v[33];
+    r.relative_permeability[0] = v[34], r.relative_permeability[1] = v[35];
     return r;
   }
 };

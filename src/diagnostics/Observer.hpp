@@ -49,6 +49,10 @@ struct PhaseMeasure {
   bool driven = true;                // the body force acts on it (Phases/Driven Phase)
   bool has_relative_permeability = false;
   double relative_permeability = 0;  // with Phases/Single Phase Permeability; one phase driven: the coupling to it
+  // With Convergence/Levels > 1: k_r extrapolated from the levels, and its
+  // relative uncertainty (the grid convergence index, as for k).
+  bool has_extrapolation = false;
+  double relative_permeability_extrapolated = 0, relative_permeability_uncertainty = 0;
   double mass = 0;                   // of its particles (kg per m^(3-Dim)); fixed particles keep it exactly
   double mean_pressure = 0;          // its volume-weighted mean p (Pa): phase 1's less phase 0's is the capillary pressure
 };

@@ -37,7 +37,7 @@ namespace poresph {
 // neighbour-list builds and superficial velocity, and the run state the
 // steady-state verdict, the channel profile's samples and the builds. 7:
 // moving grains' state (run/moving_grains) and grains_history.csv's rows.
-constexpr const char* kCheckpointFormat = "poresph checkpoint 7";
+constexpr const char* kCheckpointFormat = "poresph checkpoint 8";
 
 // What defines the physics of a run, as "name = value" lines: a checkpoint
 // continues only a scene with the same lines. time_step and sound_speed are

@@ -488,9 +488,10 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   if (scene.permeability_tensor)
     fail("Permeability/Tensor with Phases/Count = 2 is not supported: the phases report their flux along the one "
          "driven axis");
-  if (scene.convergence_levels > 1)
-    fail("Convergence/Levels > 1 with Phases/Count = 2 is not supported yet: the phases are reported for one "
-         "spacing");
+  if (scene.convergence_levels > 1 && drain_saturation != 0)
+    fail("Convergence/Levels > 1 with Phases/Phase 1/Drainage/Saturation: each level's drainage would reach "
+         "another saturation at another capillary pressure; give Drainage/Capillary Pressure or Radius, the same "
+         "on every level");
   if (scene.linearity_check)
     fail("Permeability/Linearity Check with Phases/Count = 2 is not supported yet: the phases are reported for one "
          "force");
