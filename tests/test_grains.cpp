@@ -68,7 +68,8 @@ TEST(Grains, FileGivesEachGrainItsDensityUnderAHeaderNamingIt) {
   EXPECT_EQ(read_grain_file(write_file("grains-plain.txt", "0.3 0.3 0.1\n"), 2)[0].density, 0.0);
   const auto no_header = write_file("grains-no-header.txt", "0.3 0.3 0.1 2500\n");
   EXPECT_NE(error_of([&] { read_grain_file(no_header, 2); })
-                .find(":1: expected 3 numbers (cx cy r), found 4; a density column needs a first line naming the columns"),
+                .find(":1: expected 3 numbers (cx cy r), found 4 (as a file of 3D grains has); a density column needs "
+                      "a first line naming the columns"),
             std::string::npos)
       << error_of([&] { read_grain_file(no_header, 2); });
   const auto missing = write_file("grains-missing-density.txt", "cx cy r density\n0.3 0.3 0.1 2500\n0.7 0.7 0.05\n");

@@ -180,6 +180,21 @@ void expect_march_continued_as_in_one_go(const std::string& driven) {
 TEST(TwoPhase, AMarchContinuedFromItsCheckpointIsTheMarchInOneGo) { expect_march_continued_as_in_one_go("both"); }
 TEST(TwoPhase, AMarchOfOneDrivenPhaseContinuedIsTheMarchInOneGo) { expect_march_continued_as_in_one_go("1"); }
 
+// The driven phase is in each particle's phase acceleration: a checkpoint
+// continued with another phase driven (or both) is refused, naming it.
+TEST(TwoPhase, AMarchContinuedWithAnotherDrivenPhaseIsRefused) {
+  const std::string scene = "two_phase/layered_poiseuille.xml";
+  const auto steps = [&](const std::string& n, const std::string& driven) {
+    return std::vector<std::string>{"Solver/Method=explicit", "Run/Max Steps=" + n, "Phases/Driven Phase=" + driven};
+  };
+  run_input(scene, steps("50", "1"), "phases-driven-changed");
+  for (const std::string other : {"0", "both"}) {
+    const std::string m = testing::error_of<std::exception>(
+        [&] { run_input(scene, steps("100", other), "phases-driven-changed", "checkpoint.h5"); });
+    EXPECT_NE(m.find("Phases/Driven Phase"), std::string::npos) << m;
+  }
+}
+
 // The surface tension's acceleration goes into the checkpoint with each
 // particle: a drop marched, stopped and continued ends as in one go (a
 // continuation without the force, or with it on other particles, would not).
@@ -254,6 +269,14 @@ TEST(TwoPhase, BadInputIsRefusedByName) {
   EXPECT_TRUE(has(m, "is 0.005 times Fluid/Kinematic Viscosity")) << m;
   EXPECT_EQ(refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Kinematic Viscosity", 1.0); }), "");
   EXPECT_EQ(refusal([](auto& l) { l.sublist("Phases").sublist("Phase 1").set("Kinematic Viscosity", 1e-4); }), "");
+  // The ends of the range, whose quotients miss 100 and 0.01 by a last bit: taken.
+  for (const auto& [fluid, phase] : {std::pair<double, double>{1e-6, 1e-4}, {3e-6, 3e-8}})
+    EXPECT_EQ(refusal([&, fluid = fluid, phase = phase](auto& l) {
+                l.sublist("Fluid").set("Kinematic Viscosity", fluid);
+                l.sublist("Phases").sublist("Phase 1").set("Kinematic Viscosity", phase);
+              }),
+              "")
+        << fluid << ", " << phase;
   m = refusal([](auto& l) { l.sublist("Phases").set("Driven Phase", std::string("2")); });
   EXPECT_TRUE(has(m, "Driven Phase")) << m;
   m = refusal([](auto& l) {

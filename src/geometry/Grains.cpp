@@ -106,7 +106,8 @@ std::vector<Grain> read_grain_file(const std::string& path, int dimension) {
           path + ":" + std::to_string(number) + ": expected " + std::to_string(per_grain) + " numbers (" + columns +
           (per_grain == with_density ? " density, as the header names them" : "") + "), found " +
           std::to_string(found) +
-          (found == with_density ? "; a density column needs a first line naming the columns, '" + columns +
+          (found == with_density ? std::string(dimension == 2 ? " (as a file of 3D grains has)" : "") +
+                                       "; a density column needs a first line naming the columns, '" + columns +
                                        " density'"
                                  : ""));
     Grain g;

@@ -120,6 +120,9 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
       entries.emplace_back("Phases/Phase 1/Region Low", list(second.region_low.data(), D));
       entries.emplace_back("Phases/Phase 1/Region High", list(second.region_high.data(), D));
     }
+    // The force's phase is in each particle's phase acceleration: a restart
+    // that drove another phase (or both) would add it twice, or not at all.
+    entries.emplace_back("Phases/Driven Phase", scene.driven_phase < 0 ? "both" : std::to_string(scene.driven_phase));
     if (scene.surface_tension > 0) {
       entries.emplace_back("Phases/Surface Tension", number(scene.surface_tension));
       entries.emplace_back("Phases/Colour", scene.colour == ColourFunction::Phase ? "phase" : "volume fraction");

@@ -333,8 +333,10 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   // The viscosity ratios the layered channel validates (docs/validation.md,
   // section 8): to 100 either way within 0.25 % at 80 across; at 1000 the
   // steady solve stalls at 80 across, at 10,000 already at 20.
-  const double viscosity_ratio = nu / scene.kinematic_viscosity;
-  if (!(viscosity_ratio >= kLeastViscosityRatio && viscosity_ratio <= 1 / kLeastViscosityRatio)) {
+  // (To round-off: 1e-4 / 1e-6 is 100 and a last bit.)
+  const double viscosity_ratio = nu / scene.kinematic_viscosity, slack = 1e-12;
+  if (!(viscosity_ratio >= kLeastViscosityRatio * (1 - slack) &&
+        viscosity_ratio <= (1 + slack) / kLeastViscosityRatio)) {
     std::ostringstream msg;
     msg << std::setprecision(6) << "Phases/Phase 1/Kinematic Viscosity = " << nu << " is " << viscosity_ratio
         << " times Fluid/Kinematic Viscosity: viscosity ratios from " << kLeastViscosityRatio << " to "
@@ -655,6 +657,9 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
     }
     const auto inline_values = grains.get<Array<double>>("Inline");
     const auto listed = grains_from_list(std::vector<double>(inline_values.begin(), inline_values.end()), dim);
+    if (!listed.empty() && !scene.grains.empty() && scene.grains.front().density > 0)
+      fail("Grains/File gives each grain a density and Grains/Inline gives grains without one: give every grain "
+           "its density (all in the file) or none");
     scene.grains.insert(scene.grains.end(), listed.begin(), listed.end());
     scene.allow_overlapping_grains = grains.get<bool>("Allow Overlap");
     const auto& pack = grains.sublist("Random Pack");

@@ -1,6 +1,6 @@
 """check_grain_densities.py DIR GRAIN_FILE: a run of moving grains that took each grain's density from
 the grain file's column wrote them back in grains_used.txt, under the header that names the column, and
-moved its grains (the heavier one further down under gravity)."""
+ran its steps without a failure."""
 import json
 import os
 import sys

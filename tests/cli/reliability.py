@@ -237,7 +237,8 @@ def class_3_grains():
         ("a number with trailing text", write(os.path.join(files, "trailing.txt"), "0.5 0.5x 0.1\n"),
          r"trailing.txt:1: '0.5x' is not a number"),
         ("a column more without a header naming it", write(os.path.join(files, "extra.txt"), "0.5 0.5 0.1 2000\n"),
-         r"extra.txt:1: expected 3 numbers \(cx cy r\), found 4; a density column needs a first line naming"),
+         r"extra.txt:1: expected 3 numbers \(cx cy r\), found 4 \(as a file of 3D grains has\); a density column "
+         r"needs a first line naming"),
         ("a grain without the density its header names",
          write(os.path.join(files, "no-density.txt"), "cx cy r density\n0.3 0.5 0.1 2000\n0.7 0.5 0.1\n"),
          r"no-density.txt:3: expected 4 numbers \(cx cy r density, as the header names them\), found 3"),
@@ -252,6 +253,9 @@ def class_3_grains():
     densities = "Grains/File=" + write(os.path.join(files, "densities.txt"),
                                        "cx cy r density\n0.3 0.5 0.1 2000\n0.7 0.5 0.1 3000\n")
     motion_cases = [
+        ("grain densities in the file and grains without in Grains/Inline",
+         [densities, grain, "Grains/Motion=free", lagrangian],
+         r"Grains/File gives each grain a density and Grains/Inline gives grains without one"),
         ("grain densities both in the file and in Grains/Density",
          [densities, "Grains/Motion=free", "Grains/Density=2000", lagrangian],
          r"Grains/Density and the grain file's density column both give the grains' density: give it one way"),
