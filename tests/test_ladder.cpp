@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -287,6 +289,17 @@ TEST(Ladder, TwoFluidsRestartedInTheMiddleKeepEveryLevelsPhases) {
   const std::string whole = fresh_directory("phases-whole"), interrupted = fresh_directory("phases-interrupted");
   const auto uninterrupted = run(scene, whole);
   EXPECT_THROW(run(scene, interrupted, "", 1, 200), RunInterrupted);
+  // The summary of the stop: the first level's phases in its record, none
+  // as the run's (the middle level stopped before its end).
+  {
+    std::ifstream in(interrupted + "/summary.json");
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string summary = text.str();
+    EXPECT_NE(summary.find("\"convergence\""), std::string::npos) << summary;
+    EXPECT_NE(summary.find("\"saturation\""), std::string::npos) << summary;
+    EXPECT_EQ(summary.find("\"index\""), std::string::npos) << summary;  // only the run's phases have one
+  }
   const auto resumed = run(scene, interrupted, interrupted + "/checkpoint.h5");
   EXPECT_EQ(resumed.restarted_from_step, 200);
   ASSERT_EQ(resumed.levels.size(), 3u);

@@ -130,6 +130,10 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
       // A stage that does not start warm frees the one before it first.
       if (!stages[s].warm) previous.reset();
       const CheckpointInfo* resume = s == first_stage && resume_from ? &*resume_from : nullptr;
+      // What a stage observes at its end is that stage's: a later stage that
+      // stops early reports none, not the stage's before it (each level's
+      // phases stay in its record).
+      report.phases.clear(), report.capillary = {}, report.drainage = {};
       previous = StageLoop<Dim, ExecSpace>::run(scene, stages, s, context, std::move(previous), resume, records, report);
     }
   } catch (const SimulationFailure& failure) {
