@@ -290,7 +290,9 @@ TEST(Ladder, TwoFluidsRestartedInTheMiddleKeepEveryLevelsPhases) {
   const auto uninterrupted = run(scene, whole);
   EXPECT_THROW(run(scene, interrupted, "", 1, 200), RunInterrupted);
   // The summary of the stop: the first level's phases in its record, none
-  // as the run's (the middle level stopped before its end).
+  // as the run's (the middle level stopped before its end). Process 0
+  // writes it.
+  MPI_Barrier(MPI_COMM_WORLD);
   {
     std::ifstream in(interrupted + "/summary.json");
     std::stringstream text;
