@@ -142,21 +142,7 @@ std::string human_bytes(double bytes) {
 }
 
 MemoryBudget memory_budget(const SceneConfig& scene, int processes_on_machine) {
-  MemoryBudget budget;
-  budget.processes_on_machine = std::max(1, processes_on_machine);
-  if (scene.memory_limit_bytes > 0) {
-    budget.available_bytes = scene.memory_limit_bytes;
-    budget.source = "Run/Memory Limit";
-    return budget;
-  }
-  // MemAvailable is the machine's, shared by its processes; an address-space limit is each process's own.
-  const double machine = meminfo_available_bytes();
-  const double processes = address_space_left_bytes() * budget.processes_on_machine;
-  budget.available_bytes = std::min(machine, processes);
-  budget.source = processes < machine              ? "what is left of the address-space limit (ulimit -v) of each process"
-                  : std::isfinite(machine) ? "MemAvailable in /proc/meminfo"
-                                           : "unknown (no /proc/meminfo)";  // infinite: no memory check
-  return budget;
+  return machine_memory_budget(scene.memory_limit_bytes, processes_on_machine);
 }
 
 RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budget) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/Simulation.hpp"
+#include "core/MemoryAvailable.hpp"
 #include "scene/SceneConfig.hpp"
 
 namespace poresph {
@@ -26,12 +27,6 @@ struct RunEstimate {
   double bytes_per_process = 0;
 };
 
-// Where the run's processes live: how much memory the machine has for them.
-struct MemoryBudget {
-  double available_bytes = 0;  // Run/Memory Limit, or what the machine has available (MemAvailable)
-  int processes_on_machine = 1;
-  std::string source;          // where available_bytes comes from, for the message
-};
 
 // The steps from t = 0 to end_time at dt: the nearest whole number, at least
 // one; LLONG_MAX for more than 2^62 (no run gets there).

@@ -392,28 +392,16 @@ void Simulation<Dim, ExecSpace>::drain_phase_one() {
     lattice.shape[d] = std::llround(scene_.cell_size[d] / scene_.particle_spacing);
     lattice.periodic[d] = scene_.periodic[d];
   }
-  const int sharing = comm_.on_this_machine();
-  const double need = kDrainageBytesPerPoint * static_cast<double>(lattice.size());
-  // As for an image's pieces (scene/ImageScene.cpp): the machine's memory is
-  // shared by its processes; an address-space limit is each process's own.
-  double need_here = need * sharing, available = 0;
-  std::string source;
-  if (scene_.memory_limit_bytes > 0) {
-    available = scene_.memory_limit_bytes, source = "Run/Memory Limit gives";
-  } else {
-    const double machine = meminfo_available_bytes(), own = address_space_left_bytes();
-    if (own < machine / sharing)
-      available = own, need_here = need, source = "what is left of this process's address-space limit is";
-    else
-      available = machine, source = "the machine has available";
-  }
+  const MemoryBudget budget = machine_memory_budget(scene_.memory_limit_bytes, comm_.on_this_machine());
+  const double need = kDrainageBytesPerPoint * static_cast<double>(lattice.size()) * budget.processes_on_machine;
   std::string problem;
-  if (need_here > available) {
+  if (need > budget.available_bytes) {
     std::ostringstream msg;
     msg << std::setprecision(3) << "Phases/Phase 1/Drainage runs on the whole lattice on every process, up to "
-        << kDrainageBytesPerPoint << " bytes a point: " << lattice.size() << " points on " << sharing
-        << " process(es) of this machine need " << need_here / 1e9 << " GB, and " << source << " "
-        << available / 1e9 << " GB; use fewer processes per machine or a coarser Discretization/Particle Spacing";
+        << kDrainageBytesPerPoint << " bytes a point: " << lattice.size() << " points on "
+        << budget.processes_on_machine << " process(es) of this machine need " << need / 1e9 << " GB, and "
+        << budget.available_bytes / 1e9 << " GB are available (" << budget.source
+        << "); use fewer processes per machine or a coarser Discretization/Particle Spacing";
     problem = msg.str();
   }
   problem = comm_.first_problem(problem);

@@ -57,4 +57,31 @@ inline AvailableMemory memory_available() {
 
 inline double memory_available_bytes() { return memory_available().bytes; }
 
+// Where a run's processes live: how much memory the machine has for the
+// processes_on_machine of them together, against which their need (each
+// one's times their count) is weighed. Run/Memory Limit (memory_limit_bytes
+// > 0) or MemAvailable is the machine's, shared by its processes; an
+// address-space limit is each process's own.
+struct MemoryBudget {
+  double available_bytes = 0;  // Run/Memory Limit, or what the machine has available (MemAvailable)
+  int processes_on_machine = 1;
+  std::string source;          // where available_bytes comes from, for the message
+};
+inline MemoryBudget machine_memory_budget(double memory_limit_bytes, int processes_on_machine) {
+  MemoryBudget budget;
+  budget.processes_on_machine = std::max(1, processes_on_machine);
+  if (memory_limit_bytes > 0) {
+    budget.available_bytes = memory_limit_bytes;
+    budget.source = "Run/Memory Limit";
+    return budget;
+  }
+  const double machine = meminfo_available_bytes();
+  const double processes = address_space_left_bytes() * budget.processes_on_machine;
+  budget.available_bytes = std::min(machine, processes);
+  budget.source = processes < machine              ? "what is left of the address-space limit (ulimit -v) of each process"
+                  : std::isfinite(machine) ? "MemAvailable in /proc/meminfo"
+                                           : "unknown (no /proc/meminfo)";  // infinite: no memory check
+  return budget;
+}
+
 }  // namespace poresph
