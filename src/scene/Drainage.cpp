@@ -228,17 +228,6 @@ double drained_saturation(const DrainageLattice& lattice, const std::vector<char
   return fluid > 0 ? static_cast<double>(filled) / static_cast<double>(fluid) : 0.0;
 }
 
-DrainageStep drain_to_saturation(const DrainageLattice& lattice, const std::vector<double>& radius,
-                                 double saturation, const DrainageInlet& inlet) {
-  DrainageSweep sweep(lattice, radius, inlet);
-  for (double step : drainage_ladder(lattice, radius)) {
-    sweep.advance(step);
-    const double at_step = drained_saturation(lattice, sweep.drained());
-    if (at_step >= saturation) return {step, at_step};
-  }
-  return {0.0, drained_saturation(lattice, sweep.drained())};
-}
-
 namespace {
 // The curve (drainage_curve), and the points drained at the first of its
 // steps that `kept` accepts (empty if none does): one sweep for both.
@@ -261,6 +250,16 @@ std::vector<DrainageStep> drainage_curve(const DrainageLattice& lattice, const s
                                          const DrainageInlet& inlet, double also) {
   std::vector<char> none;
   return curve_keeping(lattice, radius, inlet, also, [](const DrainageStep&) { return false; }, none);
+}
+
+DrainageStep drain_to_saturation(const DrainageLattice& lattice, const std::vector<double>& radius,
+                                 double saturation, const DrainageInlet& inlet) {
+  DrainageStep reached;
+  std::vector<char> points;
+  const auto curve = curve_keeping(
+      lattice, radius, inlet, 0,
+      [&](const DrainageStep& step) { return step.saturation >= saturation ? (reached = step, true) : false; }, points);
+  return points.empty() ? DrainageStep{0.0, curve.back().saturation} : reached;
 }
 
 DrainagePlacement place_by_drainage(const PhaseConfig::Drainage& rule, const DrainageLattice& lattice, double dx) {
