@@ -21,12 +21,6 @@
 namespace poresph {
 namespace {
 
-std::string word_of(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
-
 double squared_distance(const std::array<double, 3>& d, int dim) {
   double s = 0;
   for (int k = 0; k < dim; ++k) s += d[k] * d[k];
@@ -117,7 +111,7 @@ std::vector<Grain> read_grain_file(const std::string& path, int dimension) {
     if (found == with_density) {
       g.density = values[dimension + 1];
       if (!(g.density > 0))
-        throw std::invalid_argument(path + ":" + std::to_string(number) + ": density " + word_of(g.density) +
+        throw std::invalid_argument(path + ":" + std::to_string(number) + ": density " + words[dimension + 1] +
                                     " kg/m^3: a grain's density must be positive");
     }
     grains.push_back(g);

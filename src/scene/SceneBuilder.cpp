@@ -279,13 +279,13 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   }
 }
 
+// The smallest viscosity ratio of two phases taken, and its inverse the largest.
+constexpr double kLeastViscosityRatio = 0.01;
+
 // The Phases sublist, after everything else is read (it depends on the
 // cell, the fluid, the particles' motion and what is measured). Two
 // fluids on fixed particles, phase 1 in its box; what this slice of the
 // feature does not handle is refused rather than run wrongly.
-// The smallest viscosity ratio of two phases taken, and its inverse the largest.
-constexpr double kLeastViscosityRatio = 0.01;
-
 void read_phases(const ParameterList& list, SceneConfig& scene) {
   auto fail = [](const std::string& msg) { throw ParameterError(msg); };
   const auto& phases = list.sublist("Phases");
