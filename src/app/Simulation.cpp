@@ -719,6 +719,10 @@ bool Simulation<Dim, ExecSpace>::take_linear_state() {
     pressure_slope_ = Scalars("poresph::Simulation::pressure_slope", slots);
     slot_scalars_ = Scalars("poresph::Simulation::slot_scalars", slots);
     slot_rows_ = Rows("poresph::Simulation::slot_rows", slots, Dim);
+    if (extrapolate_walls_)
+      wall_pressure_weights_ = WallPressureWeights<Dim, ExecSpace>(space_, particles_, wall_neighbours_, kernel_,
+                                                                   body_force_, derived_.sound_speed * derived_.sound_speed,
+                                                                   phase_body_force());
   }
   // Each slot's d(p/rho^2)/dp at the state: fluid and boundary particles
   // alike (an extrapolated wall has rho = p / c^2 too).
@@ -747,8 +751,7 @@ void Simulation<Dim, ExecSpace>::pressure_product(const Scalars& dp, const Rows&
   neighbourhood_.update_ghost_values(values, owned);
   // The walls' pressures follow the fluid's (or keep their own: continuity).
   if (extrapolate_walls_) {
-    extrapolate_wall_pressure_change(space_, particles_, wall_neighbours_, kernel_, body_force_,
-                                     derived_.sound_speed * derived_.sound_speed, values, phase_body_force());
+    extrapolate_wall_pressure_change(space_, particles_, wall_neighbours_, wall_pressure_weights_, values);
     space_.fence();
   }
   static const std::string label_terms = "poresph::Simulation::pressure_product_terms";
@@ -779,7 +782,8 @@ void Simulation<Dim, ExecSpace>::continuity_product(const Rows& dv, const Scalar
 template <int Dim, class ExecSpace>
 double Simulation<Dim, ExecSpace>::linear_product_values() const {
   if (!lattice_products_.built()) return 0;
-  return lattice_products_.values_held() + static_cast<double>(pressure_slope_.extent(0)) * (2 + Dim);
+  return lattice_products_.values_held() + static_cast<double>(pressure_slope_.extent(0)) * (2 + Dim) +
+         static_cast<double>(wall_pressure_weights_.entries());
 }
 
 template <int Dim, class ExecSpace>

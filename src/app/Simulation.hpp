@@ -332,11 +332,12 @@ class Simulation {
   LatticeStencil<Dim, MemorySpace> pair_stencil_, wall_stencil_;
   PairSums<Dim, ExecSpace> pair_sums_;  // what both ends of a listed pair add to, per thread
   // The steady solver's linear products (take_linear_state()): the
-  // stencil sums, each slot's pressure-term slope at the state, and values
-  // per slot that the halo carries to the ghosts.
+  // stencil sums, each slot's pressure-term slope at the state, the walls'
+  // pressure weights, and values per slot that the halo carries to the ghosts.
   LatticeProducts<Dim, ExecSpace> lattice_products_;
   Scalars pressure_slope_, slot_scalars_;
   Rows slot_rows_;
+  WallPressureWeights<Dim, ExecSpace> wall_pressure_weights_;  // the walls' pressures' change from the fluid's
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;
   RigidGrains<Dim, ExecSpace> rigid_grains_;  // Grains/Motion = free or rotating

@@ -129,6 +129,7 @@ class WallNeighbours {
   KOKKOS_INLINE_FUNCTION int begin(int i) const { return offsets_(i); }
   KOKKOS_INLINE_FUNCTION int end(int i) const { return offsets_(i + 1); }
   KOKKOS_INLINE_FUNCTION int neighbour(int k) const { return indices_(k); }
+  int entries() const { return entries_; }
 
   // Fixed particles: the separation r_wf and the kernel value W_wf of every
   // entry, found once after the build (as NeighbourList's geometry is for the
@@ -221,31 +222,67 @@ void extrapolate_wall_pressure(const ExecSpace& space, const Particles<Dim, type
 // change dp of the fluid's pressures (a value per slot, owned and ghosts):
 // extrapolate_wall_pressure differentiated for walls at rest, with the
 // fluid's density following its pressure (d rho_f = dp_f / c^2),
-//   dp_w = sum_f W_wf (1 + F . r_wf / c^2) dp_f / sum_f W_wf
-// (F the force on f's phase, given phase_force),
-// into dp(w); fluid slots are left as they are. Without fluid in reach, 0.
+//   dp_w = sum_f a_wf dp_f,   a_wf = W_wf (1 + F . r_wf / c^2) / sum_f W_wf
+// (F the force on f's phase, given phase_force): linear in dp, with
+// weights a_wf that depend on the geometry alone. WallPressureWeights holds
+// them, one per entry of the wall list, so that each product (the steady
+// solver makes thousands) is a gather and a multiply-add per entry, not a
+// division and a dot product.
+template <int Dim, class ExecSpace>
+class WallPressureWeights {
+ public:
+  using MemorySpace = typename ExecSpace::memory_space;
+
+  WallPressureWeights() = default;
+  WallPressureWeights(const ExecSpace& space, const Particles<Dim, MemorySpace>& P,
+                      const WallNeighbours<Dim, ExecSpace>& walls, const QuinticKernel<Dim>& kernel,
+                      const Vec<Dim>& body_force, double sound_speed_sq,
+                      const PhaseBodyForce<Dim, MemorySpace>& phase_force = {})
+      : weights_("poresph::WallPressureWeights", walls.entries()) {
+    const auto Q = P;
+    const auto a = weights_;
+    const bool cached = walls.has_geometry();
+    const bool by_phase = phase_force.active();
+    static const std::string label = "poresph::WallPressureWeights";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int w) {
+          if (Q.kind(w) == kFluid) return;
+          const Vec<Dim> x_w = row<Dim>(Q.x, w);
+          double sum_w = 0;
+          for (int k = walls.begin(w); k < walls.end(w); ++k) {
+            const int f = walls.neighbour(k);
+            Vec<Dim> r;
+            const double W = wall_entry(walls, cached, k, x_w, Q.x, kernel, r);
+            sum_w += W;
+            a(k) = (1.0 + dot(by_phase ? phase_force.of(f) : body_force, r) / sound_speed_sq) * W;
+          }
+          for (int k = walls.begin(w); k < walls.end(w); ++k) a(k) = sum_w > 0 ? a(k) / sum_w : 0.0;
+        });
+    space.fence();
+  }
+  bool built() const { return weights_.extent(0) > 0; }
+  long long entries() const { return static_cast<long long>(weights_.extent(0)); }
+  KOKKOS_INLINE_FUNCTION double operator()(int k) const { return weights_(k); }
+
+ private:
+  Kokkos::View<double*, MemorySpace> weights_;
+};
+
+// dp_w = sum_f a_wf dp_f into dp(w) of every owned boundary particle (see
+// WallPressureWeights); fluid slots are left as they are. Without fluid in
+// reach, 0.
 template <int Dim, class ExecSpace, class Values>
 void extrapolate_wall_pressure_change(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
-                                      const WallNeighbours<Dim, ExecSpace>& walls, const QuinticKernel<Dim>& kernel,
-                                      const Vec<Dim>& body_force, double sound_speed_sq, const Values& dp,
-                                      const PhaseBodyForce<Dim, typename ExecSpace::memory_space>& phase_force = {}) {
-  const auto Q = P;
-  const bool cached = walls.has_geometry();
-  const bool by_phase = phase_force.active();
+                                      const WallNeighbours<Dim, ExecSpace>& walls,
+                                      const WallPressureWeights<Dim, ExecSpace>& weights, const Values& dp) {
+  const auto kind = P.kind;
   static const std::string label = "poresph::extrapolate_wall_pressure_change";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int w) {
-        if (Q.kind(w) == kFluid) return;
-        const Vec<Dim> x_w = row<Dim>(Q.x, w);
-        double sum_w = 0, sum_dpw = 0;
-        for (int k = walls.begin(w); k < walls.end(w); ++k) {
-          const int f = walls.neighbour(k);
-          Vec<Dim> r;
-          const double W = wall_entry(walls, cached, k, x_w, Q.x, kernel, r);
-          sum_w += W;
-          sum_dpw += (1.0 + dot(by_phase ? phase_force.of(f) : body_force, r) / sound_speed_sq) * W * dp(f);
-        }
-        dp(w) = sum_w > 0 ? sum_dpw / sum_w : 0.0;
+        if (kind(w) == kFluid) return;
+        double sum = 0;
+        for (int k = walls.begin(w); k < walls.end(w); ++k) sum += weights(k) * dp(walls.neighbour(k));
+        dp(w) = sum;
       });
 }
 
