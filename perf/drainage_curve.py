@@ -11,6 +11,15 @@ relative permeability against the single-phase k of the same spacing.
         [--viscosity-ratio 2] [--set "Permeability/Tensor=false" ...] [--out build/drainage] [--figure F.png] \
         [--pictures P.png] [--trapping]
 
+With --pressures (values of Pc L / sigma) each point is instead placed at
+that capillary pressure (Drainage/Capillary Pressure, sigma = 0.072 N/m)
+and run as a resolution ladder over --spacings (Convergence/Levels, the
+spacings a constant ratio apart, the finest last): each level's S_nw and
+k_r, and each phase's k_r extrapolated with its uncertainty, over the
+single-phase k extrapolated by the same ladder.
+
+    perf/drainage_curve.py --pressures 7 9 12 15 20 --out build/drainage-ladder [--figure F.png]
+
 The capillary pressure is given as L kappa = L (dim - 1) cos(theta) / r
 (theta = 0): Pc L / sigma, the cell's side L over the balls' radius. Phase 1
 is the non-wetting phase, entering from the cell's faces across x. Prints
@@ -42,7 +51,11 @@ def main():
     parser.add_argument("--trapping", action="store_true", help="Drainage/Trapping = true")
     parser.add_argument("--figure", default=None)
     parser.add_argument("--pictures", default=None)
+    parser.add_argument("--pressures", type=float, nargs="+", default=None,
+                        help="Pc L / sigma of each point, each run as a ladder over --spacings")
     args = parser.parse_args()
+    if args.pressures:
+        return ladder_points(args)
     common = ["Solver/Method=steady"] + args.set
     rule = ["Phases/Phase 1/Drainage/Trapping=true"] if args.trapping else []
     curves, points = {}, []
@@ -105,6 +118,67 @@ def main():
         fig.savefig(args.figure, dpi=100)
     if args.pictures:
         draw_phases(args, points)
+
+
+SIGMA = 0.072
+
+
+def ladder_points(args):
+    """Each capillary pressure's point as a resolution ladder (see the top)."""
+    spacings = sorted(args.spacings, reverse=True)
+    ratios = [a / b for a, b in zip(spacings, spacings[1:])]
+    if len(spacings) < 3 or max(ratios) - min(ratios) > 1e-9 * max(ratios):
+        raise SystemExit("--pressures needs three or more spacings a constant ratio apart")
+    ladder = [f"Discretization/Particle Spacing={spacings[-1]!r}", f"Convergence/Levels={len(spacings)}",
+              f"Convergence/Refinement Ratio={ratios[0]!r}"]
+    common = ["Solver/Method=steady"] + args.set + ladder
+    single = run_poresph(args.build, args.scene, os.path.join(args.out, "single"), common, ranks=args.ranks)
+    k = single["permeability_extrapolated"]["kxx"]
+    print(f"single-phase k: {k:.5e} m^2 +- {100 * single['permeability_uncertainty']['kxx']:.2g} % "
+          f"(levels {', '.join(format(lv['permeability']['kxx'], '.5e') for lv in single['convergence'])})")
+    rows = []
+    for pc in args.pressures:
+        directory = os.path.join(args.out, f"pc{pc:g}")
+        start = time.monotonic()
+        summary = run_poresph(args.build, args.scene, directory, common + [
+            "Phases/Count=2", f"Phases/Phase 1/Kinematic Viscosity={NU * args.viscosity_ratio!r}",
+            f"Phases/Phase 1/Drainage/Capillary Pressure={pc * SIGMA / args.length!r}",
+            f"Phases/Phase 1/Drainage/Surface Tension={SIGMA!r}", f"Phases/Single Phase Permeability={k!r}"],
+            ranks=args.ranks)
+        phases = summary["phases"]
+        rows.append(dict(pc=pc, seconds=time.monotonic() - start,
+                         levels=[lv["phases"] for lv in summary["convergence"]],
+                         kr=[(p["relative_permeability_extrapolated"], p["relative_permeability_uncertainty"])
+                             for p in phases]))
+    tags = ", ".join(f"{dx / args.length:g}" for dx in spacings)
+    print(f"| Pc L / sigma | S_nw at {tags} L | k_r,w at {tags} L | extrapolated k_r,w | "
+          f"k_r,nw at {tags} L | extrapolated k_r,nw | s |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        s_nw = ", ".join(f"{lv[1]['saturation']:.4f}" for lv in r["levels"])
+        krw = ", ".join(f"{lv[0]['relative_permeability']:.4f}" for lv in r["levels"])
+        krn = ", ".join(f"{lv[1]['relative_permeability']:.4f}" for lv in r["levels"])
+        (w, uw), (n, un) = r["kr"]
+        print(f"| {r['pc']:g} | {s_nw} | {krw} | {w:.4f} +- {100 * uw:.2g} % | {krn} | {n:.4f} +- {100 * un:.2g} % | "
+              f"{r['seconds']:.1f} |")
+    if args.figure:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(5.5, 4))
+        s_fine = [r["levels"][-1][1]["saturation"] for r in rows]
+        for phase, (marker, name, colour) in enumerate([("o", "k_r,w", "C0"), ("s", "k_r,nw", "C2")]):
+            values = [r["kr"][phase][0] for r in rows]
+            ax.errorbar(s_fine, values, yerr=[v * r["kr"][phase][1] for v, r in zip(values, rows)], fmt=marker + "-",
+                        color=colour, capsize=3, label=f"{name}, extrapolated (error bar: the ladder's uncertainty)")
+            ax.plot(s_fine, [r["levels"][-1][phase]["relative_permeability"] for r in rows], marker, color=colour,
+                    mfc="none", ms=9, label=f"{name} at {spacings[-1] / args.length:g} L")
+        ax.set_xlabel("non-wetting saturation S_nw (finest level)")
+        ax.set_ylabel("relative permeability (fixed distribution)")
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(args.figure, dpi=100)
+    return 0
 
 
 def draw_phases(args, points):

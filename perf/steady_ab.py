@@ -8,7 +8,7 @@ iterations and k of each, and whether k is the same to the bit.
 
 Runs reference, candidate, reference, candidate, ... (--repeats each) on one
 core (taskset -c CORE, Run/Backend = serial, Solver/Method = steady unless
---set says otherwise) and prints, per build, the median solve seconds
+--set says otherwise), or with --ranks N under mpirun -np N --bind-to core and prints, per build, the median solve seconds
 (summary.json's solver.solve_seconds), the median of the per-pair ratios
 candidate / reference, the Newton, linear and inner iterations and the
 permeability. Iterations and k that differ between the builds are printed
@@ -24,12 +24,15 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def run(build, scene, sets, directory, core):
-    cmd = ["taskset", "-c", str(core), os.path.join(build, "poresph"), scene, "--output", directory, "--overwrite",
-           "--set", "Run/Backend=serial", "--set", "Solver/Method=steady"]
+def run(build, scene, sets, directory, core, ranks=0):
+    launch = (["mpirun", "-np", str(ranks), "--bind-to", "core"] + (["--oversubscribe"] if ranks > 2 else [])
+              if ranks > 0 else ["taskset", "-c", str(core)])
+    cmd = launch + [os.path.join(build, "poresph"), scene, "--output", directory, "--overwrite",
+                    "--set", "Run/Backend=serial", "--set", "Solver/Method=steady"]
     for s in sets:
         cmd += ["--set", s]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     with open(os.path.join(directory, "summary.json")) as f:
         summary = json.load(f)
     solver = summary["solver"]
@@ -45,6 +48,7 @@ def main():
     parser.add_argument("--set", action="append", default=[], help="PATH=VALUE, passed to both builds")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--core", type=int, default=0)
+    parser.add_argument("--ranks", type=int, default=0, help="processes under mpirun (0: one, pinned to --core)")
     parser.add_argument("--out", required=True, help="directory for the runs' outputs")
     args = parser.parse_args()
 
@@ -54,7 +58,7 @@ def main():
     for r in range(args.repeats):
         for name, build in builds.items():
             directory = os.path.join(args.out, f"{name}_{r}")
-            t, counts, k = run(build, args.scene, args.set, directory, args.core)
+            t, counts, k = run(build, args.scene, args.set, directory, args.core, args.ranks)
             seconds[name].append(t)
             last[name] = (counts, k)
             print(f"{name} {r}: {t:.2f} s, Newton/linear/inner {counts}", flush=True)

@@ -698,6 +698,9 @@ void Simulation<Dim, ExecSpace>::compute_rates(RateTerms terms) {
     wall_pressure_stage();
     compute_pair_rates_of(space_, particles_, list, pair_sums_, kernel_, fluid_, body_force_, pair_options_,
                           no_slip_factors_, PairTermList<PressureTerm<Dim, ExecSpace>>{});
+  } else if (terms == RateTerms::Velocity) {
+    compute_velocity_rates(space_, particles_, list, pair_sums_, kernel_, fluid_, body_force_, pair_options_,
+                           no_slip_factors_);
   } else {
     compute_pair_rates_of(space_, particles_, list, pair_sums_, kernel_, fluid_, body_force_, pair_options_,
                           no_slip_factors_, PairTermList<ContinuityTerm<Dim, ExecSpace>>{});

@@ -105,10 +105,13 @@ class Simulation {
   void compute_rates();
   // The same with a part of the pair terms (the steady solver's
   // preconditioner): Pressure, the pressure gradient alone (dv/dt of fluid
-  // particles; with the wall pressure), or Continuity alone (d rho/dt of
-  // fluid particles). The other rates, and those of boundary particles, are
-  // not the state's until the next compute_rates().
-  enum class RateTerms { All, Pressure, Continuity };
+  // particles; with the wall pressure), Continuity alone (d rho/dt of fluid
+  // particles), or Velocity, the terms whose accelerations depend on the
+  // velocities (dv/dt and wall drag of fluid particles, less the pressure
+  // gradient and the body force's share: VelocityCorePairTerms). The other
+  // rates, and those of boundary particles, are not the state's until the
+  // next compute_rates().
+  enum class RateTerms { All, Pressure, Continuity, Velocity };
   void compute_rates(RateTerms terms);
 
   // The same two parts as exact linear products, for fixed particles whose

@@ -52,6 +52,18 @@ using OptionalPairTerms =
 template <int Dim, class ExecSpace>
 using ReplacingPairTerms = PairTermList<PhaseViscousTerm<Dim, ExecSpace>, PhaseNoSlipTerm<Dim, ExecSpace>>;
 
+// Terms whose accelerations depend on the fluid's velocities: with the
+// scene's replacements and those it wants of the optional ones, the
+// velocity block of the steady solver (the change of dv/dt for a change of
+// the velocities), a pair loop without continuity and the pressure term,
+// which add no velocity-dependent acceleration. A new term that adds one
+// belongs here too (SteadySolverTest.ProductsOfOneTermAreTheJacobiansBlocks
+// compares the block with the whole rates' products).
+template <int Dim, class ExecSpace>
+using VelocityCorePairTerms = PairTermList<ViscousTerm<Dim, ExecSpace>>;
+template <int Dim, class ExecSpace>
+using VelocityOptionalPairTerms = PairTermList<NoSlipTerm<Dim, ExecSpace>, ConvectionTerm<Dim, ExecSpace>>;
+
 namespace pair_detail {
 
 // List with New in the place of New::Replaces (unchanged if not there).
@@ -204,6 +216,26 @@ void compute_pair_rates_of(const ExecSpace& space, const Particles<Dim, typename
   into.clear_rates(space, P.owned, pair_detail::sums_of<Dim, ExecSpace>(terms));
   run_pair_loop(policy, inputs, neighbours, into, kernel, terms);
   run_pair_finish(policy, inputs, into, body_force, terms);
+}
+
+// The rates of the velocity block's terms alone (VelocityCorePairTerms and
+// those of VelocityOptionalPairTerms the scene wants, with its
+// replacements): the accelerations and wall drags of fluid particles. Their
+// d rho/dt, and the rows of boundary particles, are not the state's.
+template <int Dim, class ExecSpace>
+void compute_velocity_rates(const ExecSpace& space, const Particles<Dim, typename ExecSpace::memory_space>& P,
+                            const NeighbourList<Dim, ExecSpace>& neighbours, const PairSums<Dim, ExecSpace>& sums,
+                            const QuinticKernel<Dim>& kernel, const FluidProperties& fluid, const Vec<Dim>& body_force,
+                            const PairLoopOptions& options, const NoSlipFactors<Dim, ExecSpace>& no_slip) {
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned);
+  const PairTermInputs<Dim, ExecSpace> inputs{P, fluid, options, no_slip, neighbours.has_geometry()};
+  const auto into = sums.with_rates(P);
+  pair_detail::ChooseReplacements<VelocityCorePairTerms<Dim, ExecSpace>, VelocityOptionalPairTerms<Dim, ExecSpace>,
+                                  ReplacingPairTerms<Dim, ExecSpace>>::run(inputs, [&](auto terms) {
+    into.clear_rates(space, P.owned, pair_detail::sums_of<Dim, ExecSpace>(terms));
+    run_pair_loop(policy, inputs, neighbours, into, kernel, terms);
+    run_pair_finish(policy, inputs, into, body_force, terms);
+  });
 }
 
 // The fluid's force on each owned boundary particle a: on_force(a, F)

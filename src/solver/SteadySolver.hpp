@@ -92,6 +92,7 @@ class SteadySolver {
   // G and D alone: a pair loop with one term, cheaper than the whole rates.
   static constexpr auto kGradient = System::RateTerms::Pressure;
   static constexpr auto kDivergence = System::RateTerms::Continuity;
+  static constexpr auto kVelocity = System::RateTerms::Velocity;
   static constexpr int kBacktracks = 3;
   // Below this, a velocity row's share of wall drag (wall_weighted_scaling)
   // is the forward difference's rounding (a bulk row's: about 1e-15).
@@ -440,7 +441,7 @@ class SteadySolver {
       // The velocity block on the smooth mode in x (component 0).
       View sv("steady_smooth_v", nv);
       to_component(x, sv, 0);
-      system.apply(&sv, nullptr, work_v_, work_q3_, kForward);
+      system.apply(&sv, nullptr, work_v_, work_q3_, kForward, kVelocity);
       from_component(work_v_, y, 0);
       compact_.apply(y, work_q_);
       compact_scale_ = ops.dot(x, work_q_) / smooth;
@@ -473,7 +474,7 @@ class SteadySolver {
             for (int d = 0; d < Dim; ++d) uniform(i * Dim + d) = d == component ? fluid(i) : 0.0;
           });
       space_.fence();
-      system.apply(&uniform, nullptr, response, response_q, kForward);
+      system.apply(&uniform, nullptr, response, response_q, kForward, kVelocity);
       long long touched = 0;
       static const std::string label_weigh = "poresph::steady::weigh_wall_rows";
       Kokkos::parallel_reduce(
@@ -595,7 +596,7 @@ class SteadySolver {
   void apply_dag(System& system, const View& q, const View& out) {
     system.apply(nullptr, &q, work_v_, work_q3_, kForward, kGradient);
     multiply(lsc_scaling_, work_v_);
-    system.apply(&work_v_, nullptr, work_v2_, work_q3_, kForward);
+    system.apply(&work_v_, nullptr, work_v2_, work_q3_, kForward, kVelocity);
     multiply(lsc_scaling_, work_v2_);
     system.apply(&work_v2_, nullptr, work_v_, out, kForward, kDivergence);
   }
@@ -661,7 +662,7 @@ class SteadySolver {
     const KrylovOptions krylov = inner_krylov();
     ops.fill(v, 0.0);
     const auto result = fgmres(
-        ops, [&](const View& in, const View& out) { system.apply(&in, nullptr, out, work_q3_, kForward); },
+        ops, [&](const View& in, const View& out) { system.apply(&in, nullptr, out, work_q3_, kForward, kVelocity); },
         [&](const View& in, const View& out) { precondition_velocity(in, out); }, r, v, krylov, inner_workspace_);
     inner_iterations_ += result.iterations;
     inner_basis_ = std::max(inner_basis_, result.basis_vectors);

@@ -106,13 +106,16 @@ class SteadySystem {
   // zero. Central differences; Accuracy::Forward takes one rate evaluation
   // instead of two, F(y + d w) - F(y), first order in d: enough for a
   // preconditioner, whose products need only be near J's. terms: the
-  // pressure gradient alone (G, velocity rows of a density w) or the
-  // continuity alone (D, density rows of a velocity w), forward differences
-  // of a pair loop with that term only (Simulation::compute_rates(RateTerms)).
+  // pressure gradient alone (G, velocity rows of a density w), the
+  // continuity alone (D, density rows of a velocity w), or the velocity
+  // block (A, velocity rows of a velocity w; the density rows zero): each a
+  // difference of a pair loop with those terms only (Simulation::
+  // compute_rates(RateTerms)), G and D the exact linear products where there
+  // are (linear_products()).
   enum class Accuracy { Central, Forward };
   void apply(const View* wv, const View* wq, const View& out_v, const View& out_q,
              Accuracy accuracy = Accuracy::Central, RateTerms terms = RateTerms::All) {
-    if (terms != RateTerms::All && linear_products()) {
+    if ((terms == RateTerms::Pressure || terms == RateTerms::Continuity) && linear_products()) {
       apply_linear(wv, wq, out_v, out_q, terms);
       ++partial_evaluations_;
       return;
@@ -127,15 +130,21 @@ class SteadySystem {
     const double n = static_cast<double>(sim_.fluid_particles()) * (Dim + 1);
     const double step = 1e-4 * velocity_scale_ * std::sqrt(n) / size;
     if (terms != RateTerms::All) {
-      PartialBase& base = partial_[terms == RateTerms::Pressure ? 0 : 1];
-      if (!base.current) {  // F of these terms at the state, once per state
+      PartialBase& base = partial_[static_cast<int>(terms) - 1];
+      if (accuracy == Accuracy::Central) {
+        set_state(-step, wv, wq);
+        evaluate(base.v, base.q, terms);
+        base.current = false;  // holds F(y - d w), not F(y)
+      } else if (!base.current) {  // F of these terms at the state, once per state
         evaluate(base.v, base.q, terms);
         base.current = true;
       }
+      const double scale = accuracy == Accuracy::Central ? 0.5 / step : 1.0 / step;
       set_state(step, wv, wq);
       evaluate(out_v, out_q, terms);
-      ops_.update(-1.0 / step, base.v, 1.0 / step, out_v);
-      ops_.update(-1.0 / step, base.q, 1.0 / step, out_q);
+      ops_.update(-scale, base.v, scale, out_v);
+      ops_.update(-scale, base.q, scale, out_q);
+      if (terms == RateTerms::Velocity) ops_.fill(out_q, 0.0);  // its density rows are not the block's
       set_state(0.0, nullptr, nullptr);
       return;
     }
@@ -205,7 +214,7 @@ class SteadySystem {
               for (int d = 0; d < Dim; ++d) probe(i * Dim + d) = (c == colour && d == component) ? fluid(i) : 0.0;
             });
         space_.fence();
-        apply(&probe, nullptr, response, response_q, accuracy);
+        apply(&probe, nullptr, response, response_q, accuracy, RateTerms::Velocity);
         static const std::string label_take = "poresph::steady::diagonal_take";
         Kokkos::parallel_for(
             label_take, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
@@ -313,7 +322,7 @@ class SteadySystem {
     View v, q;
     bool current = false;
   };
-  PartialBase partial_[2];
+  PartialBase partial_[3];  // Pressure, Continuity, Velocity
 };
 
 }  // namespace poresph
