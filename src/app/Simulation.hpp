@@ -107,10 +107,10 @@ class Simulation {
   // preconditioner): Pressure, the pressure gradient alone (dv/dt of fluid
   // particles; with the wall pressure), Continuity alone (d rho/dt of fluid
   // particles), or Velocity, the terms whose accelerations depend on the
-  // velocities (dv/dt and wall drag of fluid particles, less the pressure
-  // gradient and the body force's share: VelocityCorePairTerms). The other
-  // rates, and those of boundary particles, are not the state's until the
-  // next compute_rates().
+  // velocities (dv/dt of fluid particles from those terms and the body
+  // force, and their wall drag: VelocityCorePairTerms). The other rates, and
+  // those of boundary particles, are not the state's until the next
+  // compute_rates().
   enum class RateTerms { All, Pressure, Continuity, Velocity };
   void compute_rates(RateTerms terms);
 

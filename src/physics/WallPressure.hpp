@@ -260,7 +260,6 @@ class WallPressureWeights {
         });
     space.fence();
   }
-  bool built() const { return weights_.extent(0) > 0; }
   long long entries() const { return static_cast<long long>(weights_.extent(0)); }
   KOKKOS_INLINE_FUNCTION double operator()(int k) const { return weights_(k); }
 

@@ -89,7 +89,9 @@ class SteadySolver {
   using RegionSums = poresph::RegionSums<Kokkos::View<int*, typename ExecSpace::memory_space>, View>;
   // The preconditioner's products: near J is enough, at one rate evaluation each.
   static constexpr auto kForward = System::Accuracy::Forward;
-  // G and D alone: a pair loop with one term, cheaper than the whole rates.
+  // G and D alone (a pair loop with one term, or the exact linear products)
+  // and the velocity block (a pair loop of the velocity-dependent terms):
+  // each cheaper than the whole rates.
   static constexpr auto kGradient = System::RateTerms::Pressure;
   static constexpr auto kDivergence = System::RateTerms::Continuity;
   static constexpr auto kVelocity = System::RateTerms::Velocity;
