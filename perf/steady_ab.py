@@ -8,7 +8,8 @@ iterations and k of each, and whether k is the same to the bit.
 
 Runs reference, candidate, reference, candidate, ... (--repeats each) on one
 core (taskset -c CORE, Run/Backend = serial, Solver/Method = steady unless
---set says otherwise), or with --ranks N under mpirun -np N --bind-to core and prints, per build, the median solve seconds
+--set says otherwise), or with --ranks N under mpirun -np N --bind-to core,
+and prints, per build, the median solve seconds
 (summary.json's solver.solve_seconds), the median of the per-pair ratios
 candidate / reference, the Newton, linear and inner iterations and the
 permeability. Iterations and k that differ between the builds are printed
