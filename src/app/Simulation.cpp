@@ -722,10 +722,11 @@ bool Simulation<Dim, ExecSpace>::take_linear_state() {
     pressure_slope_ = Scalars("poresph::Simulation::pressure_slope", slots);
     slot_scalars_ = Scalars("poresph::Simulation::slot_scalars", slots);
     slot_rows_ = Rows("poresph::Simulation::slot_rows", slots, Dim);
-    if (extrapolate_walls_)
+    if (extrapolate_walls_) {
+      const double c2 = derived_.sound_speed * derived_.sound_speed;
       wall_pressure_weights_ = WallPressureWeights<Dim, ExecSpace>(space_, particles_, wall_neighbours_, kernel_,
-                                                                   body_force_, derived_.sound_speed * derived_.sound_speed,
-                                                                   phase_body_force());
+                                                                   body_force_, c2, phase_body_force());
+    }
   }
   // Each slot's d(p/rho^2)/dp at the state: fluid and boundary particles
   // alike (an extrapolated wall has rho = p / c^2 too).
