@@ -27,7 +27,6 @@ struct RunEstimate {
   double bytes_per_process = 0;
 };
 
-
 // The steps from t = 0 to end_time at dt: the nearest whole number, at least
 // one; LLONG_MAX for more than 2^62 (no run gets there).
 long long steps_to_end_time(double end_time, double dt);
