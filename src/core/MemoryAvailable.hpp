@@ -66,6 +66,7 @@ struct MemoryBudget {
   double available_bytes = 0;  // Run/Memory Limit, or what the machine has available (MemAvailable)
   int processes_on_machine = 1;
   std::string source;          // where available_bytes comes from, for the message
+  bool each_process_limited = false;  // available_bytes is processes_on_machine times each one's own limit
 };
 inline MemoryBudget machine_memory_budget(double memory_limit_bytes, int processes_on_machine) {
   MemoryBudget budget;
@@ -78,6 +79,7 @@ inline MemoryBudget machine_memory_budget(double memory_limit_bytes, int process
   const double machine = meminfo_available_bytes();
   const double processes = address_space_left_bytes() * budget.processes_on_machine;
   budget.available_bytes = std::min(machine, processes);
+  budget.each_process_limited = processes < machine;
   budget.source = processes < machine              ? "what is left of the address-space limit (ulimit -v) of each process"
                   : std::isfinite(machine) ? "MemAvailable in /proc/meminfo"
                                            : "unknown (no /proc/meminfo)";  // infinite: no memory check

@@ -130,23 +130,17 @@ ImageSizeCheck piece_memory_check(const std::string& file, const SceneConfig& sc
                                   const Communicator& comm) {
   const int sharing = comm.on_this_machine();
   return [=](long long voxels, const std::string& shape) {
+    const MemoryBudget budget = machine_memory_budget(scene.memory_limit_bytes, sharing);
     const double need = kImageSetupBytes * static_cast<double>(voxels);
-    AvailableMemory available;
-    double need_here = need;
-    if (scene.memory_limit_bytes > 0) {
-      available = {scene.memory_limit_bytes, "Run/Memory Limit"};
-      need_here = need * sharing;
-    } else {
-      // MemAvailable is the machine's, shared by its processes; an address-space limit is each process's own.
-      const double machine = meminfo_available_bytes(), own = address_space_left_bytes();
-      if (own < machine / sharing) {
-        available = {own, "what is left of the process's address-space limit (ulimit -v)"};
-      } else if (std::isfinite(machine)) {
-        available = {machine, "MemAvailable in /proc/meminfo"};
-        need_here = need * sharing;
-      }
+    if (!(need * budget.processes_on_machine > budget.available_bytes)) return;
+    // Under an address-space limit the message speaks of one process: its need against its own limit.
+    AvailableMemory available{budget.available_bytes, budget.source};
+    double need_here = need * budget.processes_on_machine;
+    if (budget.each_process_limited) {
+      available = {budget.available_bytes / budget.processes_on_machine,
+                   "what is left of the process's address-space limit (ulimit -v)"};
+      need_here = need;
     }
-    if (!(need_here > available.bytes)) return;
     std::ostringstream msg;
     msg.precision(3);
     msg << "Image/File '" << file << "' (" << shape << "): making its walls takes about " << need_here / 1e9
