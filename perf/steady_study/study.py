@@ -27,6 +27,8 @@ Methods:
                    their energy near each corner of the Brillouin zone and next to walls
   stabilised       pressure stabilisation beta T (T: compact Laplacian): k shift, and
                    FGMRES on the stabilised and true systems with Schur s I + beta T
+  pair-stabilised  continuity stabilised by the pairs' pressure jumps less their mean gradient
+                   (--alpha): k shift, and FGMRES with a compact-Laplacian Schur preconditioner
   schwarz          two-level restricted additive Schwarz: blocks of --block points,
                    --overlap, coarse space one constant per block and unknown
   two-grid         Schwarz smoothing and a coarse correction by the Jacobian of the same
@@ -404,6 +406,91 @@ def method_stabilised(system, args):
             report(f"  {label} system, Schur s I + beta T", system, x, its, hist, time.time() - t)
 
 
+def quintic_over_r(r, h, dim):
+    """(1/r) dW/dr of the quintic kernel (src/core/Kernel.hpp), support 3h."""
+    alpha = 7 / (478 * np.pi * h * h) if dim == 2 else 1 / (120 * np.pi * h ** 3)
+    s = r / h
+    t3, t2, t1 = np.maximum(3 - s, 0), np.maximum(2 - s, 0), np.maximum(1 - s, 0)
+    return alpha / h * (-5 * t3 ** 4 + 30 * t2 ** 4 - 75 * t1 ** 4) / r
+
+
+def pair_jump_operator(system):
+    """T rho = sum_b 2 V F_ab [p_a - p_b - (g_a + g_b) . r_ab / 2] over the fluid pairs (h = dx),
+    p = c^2 rho and g = grad p = -rho0 G rho the code's own pressure gradient (walls included):
+    the pressure jump of a pair less what the mean of its two gradients predicts. Zero for a
+    quadratic p wherever g is exact; a compact Laplacian of p where the SPH gradient does not see p."""
+    dim, dx, n = system.dim, system.info["dx"], system.n
+    reach = 3
+    index = -np.ones(system.shape, dtype=int)
+    index[tuple(system.lattice.T)] = np.arange(n)
+    a_rows, b_rows, weights, separations = [], [], [], []
+    for offset in np.ndindex(*(2 * reach + 1,) * dim):
+        o = np.array(offset) - reach
+        r = np.linalg.norm(o) * dx
+        if r == 0 or r >= 3 * dx:
+            continue
+        b = index[tuple(((system.lattice + o) % system.shape).T)]
+        fluid = b >= 0
+        a_rows.append(np.nonzero(fluid)[0])
+        b_rows.append(b[fluid])
+        weights.append(np.full(fluid.sum(), 2 * dx ** dim * quintic_over_r(r, dx, dim)))
+        separations.append(np.tile(-o * dx, (fluid.sum(), 1)))
+    a, b, w, r = (np.concatenate(v) for v in (a_rows, b_rows, weights, separations))
+    jump = sp.csr_matrix((np.concatenate([w, -w]), (np.concatenate([a, a]), np.concatenate([a, b]))), shape=(n, n))
+    rows, cols, values = [], [], []
+    for q in range(dim):
+        rows += [a, a]
+        cols += [a * dim + q, b * dim + q]
+        values += [w * r[:, q] / 2, w * r[:, q] / 2]
+    mean_gradient = sp.csr_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
+                                  shape=(n, n * dim))
+    c, rho0 = system.info["c"], system.info["rho0"]
+    return (c * c * jump + rho0 * (mean_gradient @ system.G)).tocsr()
+
+
+def method_pair_stabilised(system, args):
+    """Continuity stabilised by the pairs' pressure jumps: d rho/dt += alpha dx^2 / nu T rho
+    (pair_jump_operator; Rhie and Chow's idea in SPH pairs: dx^2 / nu stands for the inverse of the
+    velocity block's diagonal). For each --alpha: k of the stabilised system (direct, unless
+    --no-reference), and FGMRES on it with A^-1 exact and the Schur complement C - D diag(A)^-1 G
+    solved by GMRES to --inner-tol, at most --inner-maxit, preconditioned by the compact
+    (2d+1-point, Neumann) Laplacian scaled to it on a smooth mode: a preconditioner a multigrid
+    can apply. --true: the same preconditioner on the unstabilised system."""
+    T = pair_jump_operator(system)
+    A_lu = spla.splu(system.A)
+    DG, _ = dg_operators(system)
+    compact = system.compact_laplacian(neumann=True)
+    compact_lu = spla.splu((compact + 1e-10 * sp.identity(system.n)).tocsc())
+    smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
+    for alpha in args.alpha:
+        C = alpha * system.info["dx"] ** 2 / system.info["nu"] * T
+        extra = sp.lil_matrix(system.Jb.shape)
+        extra[np.ix_(system.density, system.density)] = C
+        stabilised = (system.Jb + extra.tocsr()).tocsr()
+        if system.reference is not None:
+            k = permeability(system.info, spla.spsolve(stabilised.tocsc(), system.b)[:-1])
+            print(f"  alpha {alpha:g}: k of the stabilised system {k:.6e}, {k / system.k - 1:+.2e} from the true one")
+        schur = (C - DG).tocsr()
+        scale = (smooth @ (schur @ smooth)) / (smooth @ (compact @ smooth))
+        inner = [0]
+
+        def product(v):
+            inner[0] += 1
+            return schur @ v
+
+        def schur_solve(rp):
+            return fgmres(product, rp - rp.mean(), lambda z: compact_lu.solve(z) / scale, args.inner_tol,
+                          args.inner_maxit)[0]
+
+        target = system.Jb if args.true else stabilised
+        t = time.time()
+        x, its, hist = fgmres(lambda v: target @ v, system.b, system.block_preconditioner(schur_solve, A_lu.solve),
+                              args.tol, args.maxit, args.restart)
+        k = permeability(system.info, x[:-1])
+        print(f"  alpha {alpha:g}, {'unstabilised' if args.true else 'stabilised'} system: {its} iterations, "
+              f"{inner[0]} inner, residual {hist[-1]:.1e}, k {k:.6e}, {time.time() - t:.1f} s")
+
+
 def extended_blocks(system, block, overlap):
     """Each lattice point's block of block^d points, and per block its points extended
     by overlap points a side (periodic) with which of them the block owns."""
@@ -766,6 +853,7 @@ METHODS = {
     "lsc-capped": method_lsc_capped,
     "weak-modes": method_weak_modes,
     "stabilised": method_stabilised,
+    "pair-stabilised": method_pair_stabilised,
     "schwarz": method_schwarz,
     "two-grid": method_two_grid,
     "inner": method_inner,
@@ -790,6 +878,8 @@ def main():
     parser.add_argument("--dg-shift", type=float, default=1e-10,
                         help="lsc-capped: the shift of DG, over its mean diagonal")
     parser.add_argument("--beta", type=float, nargs="+", default=[1e-3, 1e-2, 1e-1])
+    parser.add_argument("--alpha", type=float, nargs="+", default=[1e-2, 1e-1, 1.0], help="pair-stabilised")
+    parser.add_argument("--true", action="store_true", help="pair-stabilised: precondition the true system")
     parser.add_argument("--block", type=int, default=None,
                         help="Schwarz blocks (default 8) or aggregates (default 4), in lattice points a side")
     parser.add_argument("--overlap", type=int, default=4)
