@@ -95,7 +95,8 @@ TYPED_TEST(SteadySolverTest, ProductsAreLinear) {
 // continuity alone (D) the density rows of a velocity change, with the
 // grains' boundary particles (their wall pressure, their velocity) as in
 // the whole rates. On lattice rows they are the simulation's exact linear
-// products (physics/LatticeProducts.hpp), one partial evaluation each; the
+// products (physics/LatticeProducts.hpp), one partial evaluation each, and
+// so is the velocity block (A) where no convection enters; the
 // state is taken away from rest (densities 2 % apart, a flow), where the
 // pressure term's p / rho^2 has a slope other than c^2 / rho^2, and the
 // whole rates' products are central differences, so that what is left of
@@ -131,7 +132,20 @@ void expect_products_of_one_term_are_the_blocks(const SceneConfig& scene) {
   system.apply(&w_v, nullptr, full_v, full_q);
   system.apply(&w_v, nullptr, other_v, d_q, System::Accuracy::Forward, System::RateTerms::Continuity);
   EXPECT_LT(difference<Space>(d_q, full_q), 1e-8);
-  EXPECT_EQ(system.partial_rate_evaluations(), 2) << "one evaluation a product, no base";
+  // Without convection the velocity block is a stencil sum too, its density
+  // rows zero; so is its Stokes part (Viscous) with it, checked below.
+  const int linear_velocity = sim.linear_velocity_products(System::RateTerms::Velocity) ? 1 : 0;
+  const int linear_viscous = sim.linear_velocity_products(System::RateTerms::Viscous) ? 1 : 0;
+  EXPECT_EQ(linear_viscous, 1) << "one fluid on lattice rows";
+  if (linear_velocity) {
+    system.apply(&w_v, nullptr, other_v, other_q, System::Accuracy::Forward, System::RateTerms::Velocity);
+    EXPECT_LT(difference<Space>(other_v, full_v), 1e-8);
+    EXPECT_EQ(system.vectors().norm(other_q), 0.0);
+  }
+  V stokes_v("stokes_v", Dim * n);
+  system.apply(&w_v, nullptr, stokes_v, other_q, System::Accuracy::Forward, System::RateTerms::Viscous);
+  EXPECT_EQ(system.vectors().norm(other_q), 0.0);
+  EXPECT_EQ(system.partial_rate_evaluations(), 3 + linear_velocity) << "one evaluation a product, no base";
   system.difference_partial_products();
   system.apply(nullptr, &w_q, full_v, full_q, System::Accuracy::Forward);
   system.apply(nullptr, &w_q, other_v, other_q, System::Accuracy::Forward, System::RateTerms::Pressure);
@@ -139,7 +153,8 @@ void expect_products_of_one_term_are_the_blocks(const SceneConfig& scene) {
   system.apply(&w_v, nullptr, full_v, full_q, System::Accuracy::Forward);
   system.apply(&w_v, nullptr, other_v, other_q, System::Accuracy::Forward, System::RateTerms::Continuity);
   EXPECT_LT(difference<Space>(other_q, full_q), 1e-6);
-  EXPECT_EQ(system.partial_rate_evaluations(), 6) << "each term's rates at the state once, and one per product";
+  EXPECT_EQ(system.partial_rate_evaluations(), 7 + linear_velocity)
+      << "each term's rates at the state once, and one per product";
   // The velocity block (the terms whose accelerations depend on the
   // velocities) against the whole rates' velocity rows, its density rows
   // zero: central differences of both, then forward differences of both.
@@ -150,11 +165,20 @@ void expect_products_of_one_term_are_the_blocks(const SceneConfig& scene) {
   system.apply(&w_v, nullptr, full_v, full_q, System::Accuracy::Forward);
   system.apply(&w_v, nullptr, other_v, other_q, System::Accuracy::Forward, System::RateTerms::Velocity);
   EXPECT_LT(difference<Space>(other_v, full_v), 1e-6);
-  EXPECT_EQ(system.partial_rate_evaluations(), 10) << "two a central product, one a forward one and its base";
+  EXPECT_EQ(system.partial_rate_evaluations(), 11 + linear_velocity)
+      << "two a central product, one a forward one and its base";
+  // The Stokes part's linear product is the pair loop's of the viscous and
+  // no-slip terms alone; where the flow convects, the whole block is not.
+  system.apply(&w_v, nullptr, other_v, other_q, System::Accuracy::Central, System::RateTerms::Viscous);
+  EXPECT_LT(difference<Space>(stokes_v, other_v), 1e-8);
+  if (scene.convection) {
+    EXPECT_GT(difference<Space>(stokes_v, full_v), 1e-6);
+  }
 }
 
 TYPED_TEST(SteadySolverTest, ProductsOfOneTermAreTheJacobiansBlocks) {
   expect_products_of_one_term_are_the_blocks<2, TypeParam>(disc_cell(true));
+  expect_products_of_one_term_are_the_blocks<2, TypeParam>(disc_cell(false));  // A on the lattice's sites
   // A sphere in a periodic cube of 12 a side.
   SceneConfig cube = testing::periodic_box(3, 12);
   cube.grains = grains_from_list({0.5, 0.5, 0.5, 0.3}, 3);

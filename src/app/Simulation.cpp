@@ -698,8 +698,10 @@ void Simulation<Dim, ExecSpace>::compute_rates(RateTerms terms) {
     wall_pressure_stage();
     compute_pair_rates_of(space_, particles_, list, pair_sums_, kernel_, fluid_, body_force_, pair_options_,
                           no_slip_factors_, PairTermList<PressureTerm<Dim, ExecSpace>>{});
-  } else if (terms == RateTerms::Velocity) {
-    compute_velocity_rates(space_, particles_, list, pair_sums_, kernel_, fluid_, body_force_, pair_options_,
+  } else if (terms == RateTerms::Velocity || terms == RateTerms::Viscous) {
+    PairLoopOptions options = pair_options_;
+    options.convection = options.convection && terms == RateTerms::Velocity;
+    compute_velocity_rates(space_, particles_, list, pair_sums_, kernel_, fluid_, body_force_, options,
                            no_slip_factors_);
   } else {
     compute_pair_rates_of(space_, particles_, list, pair_sums_, kernel_, fluid_, body_force_, pair_options_,
@@ -739,7 +741,28 @@ bool Simulation<Dim, ExecSpace>::take_linear_state() {
         slope(j) = pressure_term_slope(P.p(j) - reference, P.rho(j), c2);
       });
   space_.fence();
+  if (linear_velocity_products(RateTerms::Viscous) && !lattice_products_.has_fluid_masses()) {  // fixed masses: once
+    fluid_mass_ = Scalars("poresph::Simulation::fluid_mass", slots);
+    const auto mass = fluid_mass_;
+    static const std::string label_mass = "poresph::Simulation::take_linear_state_fluid_mass";
+    Kokkos::parallel_for(
+        label_mass, Kokkos::RangePolicy<ExecSpace>(space_, 0, slots),
+        KOKKOS_LAMBDA(int j) { mass(j) = P.kind(j) == kFluid ? P.m(j) : 0.0; });
+    space_.fence();
+    lattice_products_.take_fluid_masses(fluid_mass_);
+  }
   return true;
+}
+
+// The viscous terms are Morris's between fluid particles, with 1/rho0 for
+// every 1/rho, and the walls' drag: linear in the velocities and the same
+// at every state, a stencil sum unless a second fluid's viscosities enter;
+// the whole velocity block is that where there is no convection.
+template <int Dim, class ExecSpace>
+bool Simulation<Dim, ExecSpace>::linear_velocity_products(RateTerms terms) const {
+  const bool viscous_only = terms == RateTerms::Viscous || (terms == RateTerms::Velocity && !pair_options_.convection);
+  return viscous_only && lattice_products_.built() && !particles_.has_phase &&
+         pair_options_.uniform_inverse_density > 0 && (fluid_.separate_wall_drag || !particles_.has_surfaces);
 }
 
 template <int Dim, class ExecSpace>
@@ -784,10 +807,28 @@ void Simulation<Dim, ExecSpace>::continuity_product(const Rows& dv, const Scalar
 }
 
 template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::velocity_product(const Rows& dv, const Rows& dvdt) {
+  const auto P = particles_;
+  const auto values = slot_rows_;
+  const int owned = particles_.owned;
+  static const std::string label_take = "poresph::Simulation::velocity_product_take";
+  Kokkos::parallel_for(
+      label_take, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned), KOKKOS_LAMBDA(int i) {
+        for (int d = 0; d < Dim; ++d) values(i, d) = P.kind(i) == kFluid ? dv(i, d) : 0.0;
+      });
+  space_.fence();
+  neighbourhood_.update_ghost_values(values, owned);
+  Kokkos::deep_copy(space_, dvdt, 0.0);
+  lattice_products_.viscous(values, fluid_mass_, 2.0 * fluid_.kinematic_viscosity * pair_options_.uniform_inverse_density,
+                            dvdt);
+}
+
+template <int Dim, class ExecSpace>
 double Simulation<Dim, ExecSpace>::linear_product_values() const {
   if (!lattice_products_.built()) return 0;
   return lattice_products_.values_held() + static_cast<double>(pressure_slope_.extent(0)) * (2 + Dim) +
-         static_cast<double>(wall_pressure_weights_.entries());
+         static_cast<double>(wall_pressure_weights_.entries()) +
+         static_cast<double>(fluid_mass_.extent(0));
 }
 
 template <int Dim, class ExecSpace>

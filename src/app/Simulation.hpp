@@ -111,7 +111,10 @@ class Simulation {
   // force, and their wall drag: VelocityCorePairTerms). The other rates, and
   // those of boundary particles, are not the state's until the next
   // compute_rates().
-  enum class RateTerms { All, Pressure, Continuity, Velocity };
+  // Viscous: the velocity block's terms without convection (the viscous and
+  // no-slip terms, the Stokes part), which the steady solver's
+  // preconditioner takes for the velocity block.
+  enum class RateTerms { All, Pressure, Continuity, Velocity, Viscous };
   void compute_rates(RateTerms terms);
 
   // The same two parts as exact linear products, for fixed particles whose
@@ -123,12 +126,20 @@ class Simulation {
   // dp of the fluid's pressures (p = c^2 rho; owned slots), the wall
   // pressure following them; continuity_product: the change of their
   // d rho/dt for changes dv of the fluid's velocities. Other particles'
-  // rows are zero. Both leave the particles as they are.
+  // rows are zero. Both leave the particles as they are. velocity_product:
+  // the change of their dv/dt from the velocity block's terms
+  // (RateTerms::Velocity) for changes dv of the fluid's velocities, the
+  // wall drag's share -kappa dv left out (the wall_drag at the state; the
+  // steady solver's rows keep it apart); only where
+  // linear_velocity_products(terms): the viscous terms (RateTerms::Viscous,
+  // or RateTerms::Velocity without convection) of one fluid.
   using Scalars = Kokkos::View<double*, MemorySpace>;
   using Rows = Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>;
   bool take_linear_state();  // false: no lattice rows somewhere, no products
   void pressure_product(const Scalars& dp, const Rows& dvdt);
   void continuity_product(const Rows& dv, const Scalars& drhodt);
+  bool linear_velocity_products(RateTerms terms) const;
+  void velocity_product(const Rows& dv, const Rows& dvdt);
   // What the products hold, in doubles (0 until the first take_linear_state()).
   double linear_product_values() const;
 
@@ -340,6 +351,7 @@ class Simulation {
   LatticeProducts<Dim, ExecSpace> lattice_products_;
   Scalars pressure_slope_, slot_scalars_;
   Rows slot_rows_;
+  Scalars fluid_mass_;  // the viscous term's masses: m on fluid slots, zero on the others
   WallPressureWeights<Dim, ExecSpace> wall_pressure_weights_;  // the walls' pressures' change from the fluid's
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;

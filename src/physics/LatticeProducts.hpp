@@ -11,10 +11,17 @@
 //                   = -(P_i M_i + sum_k (m P)(s_i + step_k) F_k r_k),
 //   divergence: d_i =  sum_j m_j (u_i - u_j) . F_ij r_ij
 //                   =  u_i . M_i - sum_k (m u)(s_i + step_k) . F_k r_k,
+//   viscous:    a_i = (2 nu / rho0) sum_j m_j F_ij (w_i - w_j)
+//                   = (2 nu / rho0) (w_i M0_i - sum_k (m w)(s_i + step_k) F_k),
 // with M_i = sum_j m_j F_ij r_ij over the particles in i's reach, s_i the
 // site of particle i, k the stencil's offsets within the kernel's support
 // (F_k = (1/r) dW/dr there, r_k = x_i - x_j) and (m P), (m u) the values
 // times the masses spread over the sites, zero where no particle is. The
+// viscous term is Morris's between fluid particles (physics/terms/
+// ViscousTerm.hpp) with fixed particles' 1/rho0 for every 1/rho: its masses
+// are given zero on other particles, whose share is the no-slip term's wall
+// drag, and M0_i is their stencil sum (take_fluid_masses()).
+// The
 // pair loop finds each neighbour through masks and a map and adds each pair
 // to both ends; here every fluid particle gathers from all its stencil's
 // sites, and consecutive particles along x read consecutive sites, so the
@@ -64,8 +71,10 @@ class LatticeProducts {
     offsets_ = static_cast<int>(ids.size());
     step_ = Kokkos::View<int*, MemorySpace>("LatticeProducts::step", offsets_);
     weight_ = Kokkos::View<double**, Kokkos::LayoutLeft, MemorySpace>("LatticeProducts::weight", offsets_, Dim);
+    scalar_weight_ = Scalars("LatticeProducts::scalar_weight", offsets_);
     for (int k = 0; k < offsets_; ++k) {
       step_(k) = rows.step(ids[k]);
+      scalar_weight_(k) = stencil.of_distance(ids[k]);
       for (int d = 0; d < Dim; ++d) weight_(k, d) = stencil.of_distance(ids[k]) * stencil.separation(ids[k], d);
     }
     // The runs of consecutive sites of owned fluid particles, each of
@@ -112,7 +121,8 @@ class LatticeProducts {
   bool built() const { return site_values_.extent(0) > 0; }
   // What the products hold, in doubles (ints count half).
   double values_held() const {
-    return static_cast<double>(site_values_.extent(0)) + Dim * owned_ + runs_ + (Dim + 0.5) * offsets_;
+    return static_cast<double>(site_values_.extent(0)) + Dim * owned_ + runs_ + (Dim + 1.5) * offsets_ +
+           static_cast<double>(viscous_moment_.size());
   }
 
   // out(i, d) = -sum_j m_j (P_i + P_j) F_ij r_ij[d] for the owned fluid
@@ -134,6 +144,28 @@ class LatticeProducts {
       double own = 0;
       for (int d = 0; d < Dim; ++d) own += velocities(i, d) * moment(i, d);
       out(i) = own - sum[0];
+    });
+  }
+
+  // The viscous term's M0_i: the stencil sums of the masses of fluid
+  // particles (a value per slot, zero on the slots of other particles).
+  void take_fluid_masses(const Scalars& mass) {
+    viscous_moment_ = Scalars("LatticeProducts::viscous_moment", owned_);
+    const auto moment = viscous_moment_;
+    spread(mass, Scalars(), 1);
+    gather_by_distance<1>(KOKKOS_LAMBDA(int i, const double* sum) { moment(i) = sum[0]; });
+  }
+  bool has_fluid_masses() const { return viscous_moment_.extent(0) > 0; }
+
+  // out(i, d) = coefficient sum_j m_j F_ij (w_i - w_j)[d] over the fluid
+  // particles j for the owned fluid particles i (other rows untouched); w a
+  // row per slot, mass as in take_fluid_masses(). Morris's viscous term
+  // where every 1/rho is 1/rho0 (fixed particles): coefficient 2 nu / rho0.
+  void viscous(const Rows& velocities, const Scalars& mass, double coefficient, const Rows& out) const {
+    const auto moment = viscous_moment_;
+    spread(velocities, mass, Dim);
+    gather_by_distance<Dim>(KOKKOS_LAMBDA(int i, const double* sum) {
+      for (int d = 0; d < Dim; ++d) out(i, d) = coefficient * (velocities(i, d) * moment(i) - sum[d]);
     });
   }
 
@@ -210,14 +242,49 @@ class LatticeProducts {
     space_.fence();
   }
 
+  // The same for the weights F_k alone: for every run of owned fluid
+  // particles, sum[c] = sum_k F_k times component c of the spread values
+  // (Components of them, at most Dim).
+  template <int Components, class Take>
+  void gather_by_distance(const Take& take) const {
+    static_assert(Components >= 1 && Components <= Dim);
+    const std::size_t sites = rows_.sites();
+    const int offsets = offsets_;
+    const auto site_values = site_values_;
+    const auto step = step_;
+    const auto scalar_weight = scalar_weight_;
+    const auto run_site = run_site_, run_length = run_length_;
+    const auto map = rows_;
+    static const std::string label = "poresph::LatticeProducts::gather_by_distance";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, runs_), KOKKOS_LAMBDA(int r) {
+          const int first = run_site(r);
+          double sum[Dim][kRun] = {};
+          for (int k = 0; k < offsets; ++k) {
+            const double* from = site_values.data() + (first + step(k));
+            const double w = scalar_weight(k);
+            for (int c = 0; c < Components; ++c)
+              for (int t = 0; t < kRun; ++t) sum[c][t] += w * from[c * sites + t];
+          }
+          for (int t = 0; t < run_length(r); ++t) {
+            double of_particle[Dim];
+            for (int d = 0; d < Dim; ++d) of_particle[d] = sum[d][t];
+            take(map.slot_at(first + t), of_particle);
+          }
+        });
+    space_.fence();
+  }
+
   ExecSpace space_;
   Lattice rows_;
   int owned_ = 0, offsets_ = 0, runs_ = 0;
   Kokkos::View<int*, MemorySpace> step_;                          // offset k -> its site difference
   Kokkos::View<double**, Kokkos::LayoutLeft, MemorySpace> weight_;  // offset k -> F_k r_k
+  Scalars scalar_weight_;                                           // offset k -> F_k
   Kokkos::View<int*, MemorySpace> run_site_, run_length_;
   Scalars site_values_;  // the spread values, component-major
   Rows moment_;          // M_i of the owned particles
+  Scalars viscous_moment_;  // M0_i of the owned particles (take_fluid_masses())
 };
 
 }  // namespace poresph

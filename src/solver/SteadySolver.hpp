@@ -90,11 +90,13 @@ class SteadySolver {
   // The preconditioner's products: near J is enough, at one rate evaluation each.
   static constexpr auto kForward = System::Accuracy::Forward;
   // G and D alone (a pair loop with one term, or the exact linear products)
-  // and the velocity block (a pair loop of the velocity-dependent terms):
-  // each cheaper than the whole rates.
+  // and the velocity block's Stokes part (the viscous and no-slip terms;
+  // without convection, which at the Reynolds numbers of pore flow moves
+  // the block little: the outer products keep it), each cheaper than the
+  // whole rates, and the Stokes part a linear product where G and D are.
   static constexpr auto kGradient = System::RateTerms::Pressure;
   static constexpr auto kDivergence = System::RateTerms::Continuity;
-  static constexpr auto kVelocity = System::RateTerms::Velocity;
+  static constexpr auto kVelocity = System::RateTerms::Viscous;
   static constexpr int kBacktracks = 3;
   // Below this, a velocity row's share of wall drag (wall_weighted_scaling)
   // is the forward difference's rounding (a bulk row's: about 1e-15).
@@ -385,7 +387,7 @@ class SteadySolver {
 
   void setup_preconditioner(System& system) {
     const int nv = system.owned() * Dim, nq = system.owned();
-    diagonal_inverse_ = system.velocity_diagonal();
+    diagonal_inverse_ = system.velocity_diagonal(kForward, kVelocity);
     const auto inverse = diagonal_inverse_;
     static const std::string label = "poresph::steady::invert_diagonal";
     Kokkos::parallel_for(

@@ -50,6 +50,7 @@ class SteadySystem {
     scratch_q_ = View("steady_scratch_q", owned_);
     for (auto& base : partial_) base = {View("steady_partial_v", owned_ * Dim), View("steady_partial_q", owned_)};
     fluid_ = View("steady_fluid", owned_);
+    state_wall_drag_ = View("steady_state_wall_drag", owned_);
     const auto kind = sim.particles().kind;
     const auto fluid = fluid_;
     static const std::string label = "poresph::steady::fluid_mask";
@@ -87,6 +88,17 @@ class SteadySystem {
     evaluate(residual_v_, residual_q_);
     for (auto& base : partial_) base.current = false;
     linear_products_ = sim_.take_linear_state();
+    for (const RateTerms terms : {RateTerms::Velocity, RateTerms::Viscous})
+      linear_velocity_[terms == RateTerms::Viscous] = linear_products_ && sim_.linear_velocity_products(terms);
+    if (linear_velocity_[1]) {
+      const auto drag = state_wall_drag_;
+      const bool surfaces = P.has_surfaces;
+      static const std::string label_drag = "poresph::steady::take_state_drag";
+      Kokkos::parallel_for(
+          label_drag, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_),
+          KOKKOS_LAMBDA(int i) { drag(i) = surfaces ? P.wall_drag(i) : 0.0; });
+      space_.fence();
+    }
   }
   // Whether the products of the pressure term alone and of continuity alone
   // are the simulation's exact linear ones (lattice rows on every process),
@@ -107,15 +119,20 @@ class SteadySystem {
   // instead of two, F(y + d w) - F(y), first order in d: enough for a
   // preconditioner, whose products need only be near J's. terms: the
   // pressure gradient alone (G, velocity rows of a density w), the
-  // continuity alone (D, density rows of a velocity w), or the velocity
-  // block (A, velocity rows of a velocity w; the density rows zero): each a
+  // continuity alone (D, density rows of a velocity w), the velocity
+  // block (A, velocity rows of a velocity w; the density rows zero) or its
+  // Stokes part (RateTerms::Viscous: A without convection): each a
   // difference of a pair loop with those terms only (Simulation::
-  // compute_rates(RateTerms)), G and D the exact linear products where there
-  // are (linear_products()).
+  // compute_rates(RateTerms)); G, D and, with one fluid, the Stokes part
+  // (and A without convection) the exact linear products where there are
+  // (linear_products()).
   enum class Accuracy { Central, Forward };
   void apply(const View* wv, const View* wq, const View& out_v, const View& out_q,
              Accuracy accuracy = Accuracy::Central, RateTerms terms = RateTerms::All) {
-    if ((terms == RateTerms::Pressure || terms == RateTerms::Continuity) && linear_products()) {
+    const bool velocity_terms = terms == RateTerms::Velocity || terms == RateTerms::Viscous;
+    if ((terms == RateTerms::Pressure || terms == RateTerms::Continuity ||
+         (velocity_terms && linear_velocity_[terms == RateTerms::Viscous])) &&
+        linear_products()) {
       apply_linear(wv, wq, out_v, out_q, terms);
       ++partial_evaluations_;
       return;
@@ -144,7 +161,7 @@ class SteadySystem {
       evaluate(out_v, out_q, terms);
       ops_.update(-scale, base.v, scale, out_v);
       ops_.update(-scale, base.q, scale, out_q);
-      if (terms == RateTerms::Velocity) ops_.fill(out_q, 0.0);  // its density rows are not the block's
+      if (velocity_terms) ops_.fill(out_q, 0.0);  // its density rows are not the block's
       set_state(0.0, nullptr, nullptr);
       return;
     }
@@ -176,7 +193,8 @@ class SteadySystem {
   // tie. Without the leftover colours a lattice of a prime number of points
   // a side had N colours along each axis: N^Dim products (23 a side in 3D:
   // over a minute of set-up, against 2.7 s at 24).
-  View velocity_diagonal(Accuracy accuracy = Accuracy::Forward) {
+  // terms: RateTerms::Velocity (A's diagonal) or Viscous (its Stokes part's).
+  View velocity_diagonal(Accuracy accuracy = Accuracy::Forward, RateTerms terms = RateTerms::Velocity) {
     const double dx = sim_.scene().particle_spacing;
     const double cutoff = 3.0 * sim_.derived().smoothing_length;
     int modulus[Dim], whole[Dim], per_axis[Dim];
@@ -214,7 +232,7 @@ class SteadySystem {
               for (int d = 0; d < Dim; ++d) probe(i * Dim + d) = (c == colour && d == component) ? fluid(i) : 0.0;
             });
         space_.fence();
-        apply(&probe, nullptr, response, response_q, accuracy, RateTerms::Velocity);
+        apply(&probe, nullptr, response, response_q, accuracy, terms);
         static const std::string label_take = "poresph::steady::diagonal_take";
         Kokkos::parallel_for(
             label_take, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
@@ -234,9 +252,10 @@ class SteadySystem {
   }
 
   // apply() of the pressure term alone (G: velocity rows of wq, the density
-  // rows zero) or of continuity alone (D: density rows of wv, the velocity
-  // rows zero) by the simulation's linear products: the forward difference's
-  // limit, exact to rounding.
+  // rows zero), of continuity alone (D: density rows of wv, the velocity
+  // rows zero) or of the velocity block (A: velocity rows of wv, the wall
+  // drag's -kappa wv added, the density rows zero) by the simulation's
+  // linear products: the forward difference's limit, exact to rounding.
   void apply_linear(const View* wv, const View* wq, const View& out_v, const View& out_q, RateTerms terms) {
     using Rows = typename Sim::Rows;
     const auto P = sim_.particles();
@@ -257,6 +276,24 @@ class SteadySystem {
             for (int d = 0; d < Dim; ++d) out_v(i * Dim + d) *= weight;
           });
       space_.fence();
+      ops_.fill(out_q, 0.0);
+      return;
+    }
+    if (terms == RateTerms::Velocity || terms == RateTerms::Viscous) {
+      if (wv) {
+        const View w = *wv, kappa = state_wall_drag_;
+        sim_.velocity_product(Rows(w.data(), owned_, Dim), Rows(out_v.data(), owned_, Dim));
+        static const std::string label = "poresph::steady::linear_velocity_rows";
+        Kokkos::parallel_for(
+            label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
+              const double weight = velocity_row_weight(fluid(i), kappa(i), dt);
+              for (int d = 0; d < Dim; ++d)
+                out_v(i * Dim + d) = weight * (out_v(i * Dim + d) - kappa(i) * w(i * Dim + d));
+            });
+        space_.fence();
+      } else {
+        ops_.fill(out_v, 0.0);
+      }
       ops_.fill(out_q, 0.0);
       return;
     }
@@ -316,13 +353,15 @@ class SteadySystem {
   double to_q_ = 1, drag_time_ = 0, velocity_scale_ = 1;
   long long evaluations_ = 0, partial_evaluations_ = 0;
   bool linear_products_ = false, differenced_partials_ = false;
+  bool linear_velocity_[2] = {false, false};  // RateTerms::Velocity, Viscous by linear products
+  View state_wall_drag_;  // each owned particle's wall drag kappa at the state (linear velocity products)
   View base_v_, base_q_, residual_v_, residual_q_, scratch_v_, scratch_q_, fluid_;
   // F of the pressure term alone [0] and of continuity alone [1] at the state.
   struct PartialBase {
     View v, q;
     bool current = false;
   };
-  PartialBase partial_[3];  // Pressure, Continuity, Velocity
+  PartialBase partial_[4];  // Pressure, Continuity, Velocity, Viscous
 };
 
 }  // namespace poresph
