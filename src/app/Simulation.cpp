@@ -790,37 +790,37 @@ void Simulation<Dim, ExecSpace>::pressure_product(const Scalars& dp, const Rows&
   lattice_products_.gradient(values, particles_.m, dvdt);
 }
 
+// The owned fluid particles' rows of dv in the slots (zero on other
+// particles), the ghosts' from their owners: what the products of a
+// velocity change gather from.
 template <int Dim, class ExecSpace>
-void Simulation<Dim, ExecSpace>::continuity_product(const Rows& dv, const Scalars& drhodt) {
+typename Simulation<Dim, ExecSpace>::Rows Simulation<Dim, ExecSpace>::fluid_rows_in_slots(const Rows& dv) {
   const auto P = particles_;
   const auto values = slot_rows_;
   const int owned = particles_.owned;
-  static const std::string label_take = "poresph::Simulation::continuity_product_take";
+  static const std::string label_take = "poresph::Simulation::fluid_rows_in_slots";
   Kokkos::parallel_for(
       label_take, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned), KOKKOS_LAMBDA(int i) {
         for (int d = 0; d < Dim; ++d) values(i, d) = P.kind(i) == kFluid ? dv(i, d) : 0.0;
       });
   space_.fence();
   neighbourhood_.update_ghost_values(values, owned);
+  return values;
+}
+
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::continuity_product(const Rows& dv, const Scalars& drhodt) {
+  const Rows values = fluid_rows_in_slots(dv);
   Kokkos::deep_copy(space_, drhodt, 0.0);
   lattice_products_.divergence(values, particles_.m, drhodt);
 }
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::velocity_product(const Rows& dv, const Rows& dvdt) {
-  const auto P = particles_;
-  const auto values = slot_rows_;
-  const int owned = particles_.owned;
-  static const std::string label_take = "poresph::Simulation::velocity_product_take";
-  Kokkos::parallel_for(
-      label_take, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned), KOKKOS_LAMBDA(int i) {
-        for (int d = 0; d < Dim; ++d) values(i, d) = P.kind(i) == kFluid ? dv(i, d) : 0.0;
-      });
-  space_.fence();
-  neighbourhood_.update_ghost_values(values, owned);
+  const Rows values = fluid_rows_in_slots(dv);
   Kokkos::deep_copy(space_, dvdt, 0.0);
-  lattice_products_.viscous(values, fluid_mass_, 2.0 * fluid_.kinematic_viscosity * pair_options_.uniform_inverse_density,
-                            dvdt);
+  const double coefficient = 2.0 * fluid_.kinematic_viscosity * pair_options_.uniform_inverse_density;
+  lattice_products_.viscous(values, fluid_mass_, coefficient, dvdt);
 }
 
 template <int Dim, class ExecSpace>

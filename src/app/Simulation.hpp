@@ -352,6 +352,7 @@ class Simulation {
   Scalars pressure_slope_, slot_scalars_;
   Rows slot_rows_;
   Scalars fluid_mass_;  // the viscous term's masses: m on fluid slots, zero on the others
+  Rows fluid_rows_in_slots(const Rows& dv);  // into slot_rows_, ghosts current
   WallPressureWeights<Dim, ExecSpace> wall_pressure_weights_;  // the walls' pressures' change from the fluid's
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;
