@@ -20,9 +20,8 @@
 // viscous term is Morris's between fluid particles (physics/terms/
 // ViscousTerm.hpp) with fixed particles' 1/rho0 for every 1/rho: its masses
 // are given zero on other particles, whose share is the no-slip term's wall
-// drag, and M0_i is their stencil sum (take_fluid_masses()).
-// The
-// pair loop finds each neighbour through masks and a map and adds each pair
+// drag, and M0_i is their stencil sum (take_fluid_masses()). The pair loop
+// finds each neighbour through masks and a map and adds each pair
 // to both ends; here every fluid particle gathers from all its stencil's
 // sites, and consecutive particles along x read consecutive sites, so the
 // sum over a run of them is a vector operation per offset (runs of at most

@@ -356,7 +356,7 @@ class SteadySystem {
   bool linear_velocity_[2] = {false, false};  // RateTerms::Velocity, Viscous by linear products
   View state_wall_drag_;  // each owned particle's wall drag kappa at the state (linear velocity products)
   View base_v_, base_q_, residual_v_, residual_q_, scratch_v_, scratch_q_, fluid_;
-  // F of the pressure term alone [0] and of continuity alone [1] at the state.
+  // F of each part of the terms at the state, by RateTerms less one.
   struct PartialBase {
     View v, q;
     bool current = false;
