@@ -243,7 +243,9 @@ class LatticeProducts {
 
   // The same for the weights F_k alone: for every run of owned fluid
   // particles, sum[c] = sum_k F_k times component c of the spread values
-  // (Components of them, at most Dim).
+  // (Components of them, at most Dim). A function apart from gather(): with
+  // the three weighings as one template, the divergence's gather took 2.7
+  // times as long (perf record on the image pack).
   template <int Components, class Take>
   void gather_by_distance(const Take& take) const {
     static_assert(Components >= 1 && Components <= Dim);
