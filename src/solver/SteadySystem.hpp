@@ -50,7 +50,6 @@ class SteadySystem {
     scratch_q_ = View("steady_scratch_q", owned_);
     for (auto& base : partial_) base = {View("steady_partial_v", owned_ * Dim), View("steady_partial_q", owned_)};
     fluid_ = View("steady_fluid", owned_);
-    state_wall_drag_ = View("steady_state_wall_drag", owned_);
     const auto kind = sim.particles().kind;
     const auto fluid = fluid_;
     static const std::string label = "poresph::steady::fluid_mask";
@@ -88,17 +87,6 @@ class SteadySystem {
     evaluate(residual_v_, residual_q_);
     for (auto& base : partial_) base.current = false;
     linear_products_ = sim_.take_linear_state();
-    for (const RateTerms terms : {RateTerms::Velocity, RateTerms::Viscous})
-      linear_velocity_[terms == RateTerms::Viscous] = linear_products_ && sim_.linear_velocity_products(terms);
-    if (linear_velocity_[1]) {
-      const auto drag = state_wall_drag_;
-      const bool surfaces = P.has_surfaces;
-      static const std::string label_drag = "poresph::steady::take_state_drag";
-      Kokkos::parallel_for(
-          label_drag, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_),
-          KOKKOS_LAMBDA(int i) { drag(i) = surfaces ? P.wall_drag(i) : 0.0; });
-      space_.fence();
-    }
   }
   // Whether the products of the pressure term alone and of continuity alone
   // are the simulation's exact linear ones (lattice rows on every process),
@@ -130,9 +118,8 @@ class SteadySystem {
   void apply(const View* wv, const View* wq, const View& out_v, const View& out_q,
              Accuracy accuracy = Accuracy::Central, RateTerms terms = RateTerms::All) {
     const bool velocity_terms = terms == RateTerms::Velocity || terms == RateTerms::Viscous;
-    if ((terms == RateTerms::Pressure || terms == RateTerms::Continuity ||
-         (velocity_terms && linear_velocity_[terms == RateTerms::Viscous])) &&
-        linear_products()) {
+    if (linear_products() && (terms == RateTerms::Pressure || terms == RateTerms::Continuity ||
+                              (velocity_terms && sim_.linear_velocity_products(terms)))) {
       apply_linear(wv, wq, out_v, out_q, terms);
       ++partial_evaluations_;
       return;
@@ -256,6 +243,8 @@ class SteadySystem {
   // rows zero) or of the velocity block (A: velocity rows of wv, the wall
   // drag's -kappa wv added, the density rows zero) by the simulation's
   // linear products: the forward difference's limit, exact to rounding.
+  // kappa is the particles' wall_drag as the last pair loop left it: with
+  // fixed particles' 1/rho0 it is the same at every state.
   void apply_linear(const View* wv, const View* wq, const View& out_v, const View& out_q, RateTerms terms) {
     using Rows = typename Sim::Rows;
     const auto P = sim_.particles();
@@ -281,14 +270,14 @@ class SteadySystem {
     }
     if (terms == RateTerms::Velocity || terms == RateTerms::Viscous) {
       if (wv) {
-        const View w = *wv, kappa = state_wall_drag_;
+        const View w = *wv;
         sim_.velocity_product(Rows(w.data(), owned_, Dim), Rows(out_v.data(), owned_, Dim));
         static const std::string label = "poresph::steady::linear_velocity_rows";
         Kokkos::parallel_for(
             label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
-              const double weight = velocity_row_weight(fluid(i), kappa(i), dt);
-              for (int d = 0; d < Dim; ++d)
-                out_v(i * Dim + d) = weight * (out_v(i * Dim + d) - kappa(i) * w(i * Dim + d));
+              const double kappa = drag ? P.wall_drag(i) : 0.0;
+              const double weight = velocity_row_weight(fluid(i), kappa, dt);
+              for (int d = 0; d < Dim; ++d) out_v(i * Dim + d) = weight * (out_v(i * Dim + d) - kappa * w(i * Dim + d));
             });
         space_.fence();
       } else {
@@ -353,8 +342,6 @@ class SteadySystem {
   double to_q_ = 1, drag_time_ = 0, velocity_scale_ = 1;
   long long evaluations_ = 0, partial_evaluations_ = 0;
   bool linear_products_ = false, differenced_partials_ = false;
-  bool linear_velocity_[2] = {false, false};  // RateTerms::Velocity, Viscous by linear products
-  View state_wall_drag_;  // each owned particle's wall drag kappa at the state (linear velocity products)
   View base_v_, base_q_, residual_v_, residual_q_, scratch_v_, scratch_q_, fluid_;
   // F of each part of the terms at the state, by RateTerms less one.
   struct PartialBase {
