@@ -53,6 +53,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from dg_symbol import quintic_derivative
+
 
 def load(prefix):
     info = {}
@@ -174,12 +176,17 @@ class System:
 
         return apply
 
+    def point_index(self):
+        """Each lattice point's fluid unknown, -1 where there is none."""
+        index = -np.ones(self.shape, dtype=int)
+        index[tuple(self.lattice.T)] = np.arange(self.n)
+        return index
+
     def compact_laplacian(self, neumann=True, stride=1):
         """The 2d+1-point graph Laplacian on the fluid lattice points (periodic), its
         neighbours `stride` points away: Neumann (only fluid neighbours count) or
         Dirichlet (solid neighbours count on the diagonal)."""
-        index = -np.ones(self.shape, dtype=int)
-        index[tuple(self.lattice.T)] = np.arange(self.n)
+        index = self.point_index()
         rows, cols, vals = [], [], []
         everyone = np.arange(self.n)
         for q in range(self.dim):
@@ -364,8 +371,7 @@ def method_weak_modes(system, args):
     size = DG.diagonal().mean()
     smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
     print(f"  smooth mode cos(2 pi x / L): {(smooth @ (DG @ smooth)) / (smooth @ smooth) / size:.2e}")
-    index = -np.ones(system.shape, dtype=int)
-    index[tuple(system.lattice.T)] = np.arange(system.n)
+    index = system.point_index()
     neighbours = np.zeros(system.n, dtype=int)
     for offset in np.ndindex(*(3,) * system.dim):
         step = np.array(offset) - 1
@@ -409,9 +415,7 @@ def method_stabilised(system, args):
 def quintic_over_r(r, h, dim):
     """(1/r) dW/dr of the quintic kernel (src/core/Kernel.hpp), support 3h."""
     alpha = 7 / (478 * np.pi * h * h) if dim == 2 else 1 / (120 * np.pi * h ** 3)
-    s = r / h
-    t3, t2, t1 = np.maximum(3 - s, 0), np.maximum(2 - s, 0), np.maximum(1 - s, 0)
-    return alpha / h * (-5 * t3 ** 4 + 30 * t2 ** 4 - 75 * t1 ** 4) / r
+    return alpha / h * quintic_derivative(r / h) / r
 
 
 def pair_jump_operator(system):
@@ -421,8 +425,7 @@ def pair_jump_operator(system):
     quadratic p wherever g is exact; a compact Laplacian of p where the SPH gradient does not see p."""
     dim, dx, n = system.dim, system.info["dx"], system.n
     reach = 3
-    index = -np.ones(system.shape, dtype=int)
-    index[tuple(system.lattice.T)] = np.arange(n)
+    index = system.point_index()
     a_rows, b_rows, weights, separations = [], [], [], []
     for offset in np.ndindex(*(2 * reach + 1,) * dim):
         o = np.array(offset) - reach
