@@ -11,6 +11,7 @@
 // (docs/steady_solver.md). Both are solved here on the whole lattice, which
 // every process holds (solver/LatticePreconditioner.hpp gathers it).
 #include <Kokkos_Core.hpp>
+#include <Teuchos_LAPACK.hpp>
 
 #include <array>
 #include <cmath>
@@ -19,31 +20,37 @@
 
 namespace poresph {
 
-template <int Dim, class ExecSpace>
+// Real: the scalar the levels hold. The steady solver's preconditioners
+// take float: a cycle is bound by memory traffic, and a preconditioner
+// inside a flexible Krylov method whose inner solves stop at 1e-2 has no
+// use for double's digits (docs/steady_solver.md, "The multigrid in single
+// precision").
+template <int Dim, class ExecSpace, class Real = float>
 class LatticeMultigrid {
  public:
   using MemorySpace = typename ExecSpace::memory_space;
-  using View = Kokkos::View<double*, MemorySpace>;
-  using Couplings = Kokkos::View<double* [Dim], MemorySpace>;
+  using View = Kokkos::View<double*, MemorySpace>;  // what callers give and take
+  using Field = Kokkos::View<Real*, MemorySpace>;   // what the levels hold
+  using Couplings = Kokkos::View<Real* [Dim], MemorySpace>;
 
   LatticeMultigrid() = default;
 
-  // shape: points per axis; active(i) = 1 for an unknown (x fastest).
-  // shift: added to the diagonal of the finest level, relative to its
-  // largest entry (a lattice with no solid has the constant as null vector).
-  LatticeMultigrid(const ExecSpace& space, const std::array<int, Dim>& shape, const std::vector<char>& active,
-                   double shift = 1e-10)
+  // shape: points per axis; active(i) = 1 for an unknown (x fastest). A
+  // lattice with no solid has the constant as null vector; the coarsest
+  // level is swept, not factorised, so that does no harm.
+  LatticeMultigrid(const ExecSpace& space, const std::array<int, Dim>& shape, const std::vector<char>& active)
       : space_(space) {
     Level fine = make_level(shape);
     auto diag = Kokkos::create_mirror_view(fine.diag);
     auto up = Kokkos::create_mirror_view(fine.up);
     for (long long i = 0; i < fine.size; ++i) {
       if (!active[i]) continue;
-      diag(i) = 2.0 * Dim * (1.0 + shift);
+      diag(i) = 2 * Dim;
       for (int d = 0; d < Dim; ++d) up(i, d) = active[neighbour(fine, i, d, +1)] ? 1.0 : 0.0;
     }
     Kokkos::deep_copy(fine.diag, diag);
     Kokkos::deep_copy(fine.up, up);
+    take_inverse_diag(fine);
     fine.unit_couplings = true;
     levels_.push_back(fine);
     while (levels_.back().size > kCoarsest) {
@@ -52,6 +59,7 @@ class LatticeMultigrid {
       if (!coarser) break;
       levels_.push_back(coarsen(levels_.back()));
     }
+    coarsest_inverse_ = pseudo_inverse(levels_.back());
   }
 
   long long size() const { return levels_.empty() ? 0 : levels_.front().size; }
@@ -71,8 +79,8 @@ class LatticeMultigrid {
   // the cycle to the correction of the second level, coarse_correction()
   // (empty with one level) may then be changed, cycle_up(x) finishes.
   void cycle_down(const View& b) const {
-    Kokkos::deep_copy(space_, levels_[0].x, 0.0);
-    Kokkos::deep_copy(space_, levels_[0].b, b);
+    Kokkos::deep_copy(space_, levels_[0].x, Real(0));
+    convert(b, levels_[0].b);
     if (levels_.size() == 1) {
       cycle_from(0);
       return;
@@ -80,23 +88,37 @@ class LatticeMultigrid {
     descend(0);
     cycle_from(1);
   }
-  View coarse_correction() const { return levels_.size() > 1 ? levels_[1].x : View(); }
+  Field coarse_correction() const { return levels_.size() > 1 ? levels_[1].x : Field(); }
   void cycle_up(const View& x) const {
     if (levels_.size() > 1) ascend(0, 1.0);
-    Kokkos::deep_copy(space_, x, levels_[0].x);
-    space_.fence();
+    convert(levels_[0].x, x);
   }
 
   // y = L x on the finest lattice.
-  void apply(const View& x, const View& y) const { apply_level(levels_[0], x, y); }
+  void apply(const View& x, const View& y) const {
+    if (levels_[0].unit_couplings)
+      apply_level_with<true>(levels_[0], x, y);
+    else
+      apply_level_with<false>(levels_[0], x, y);
+  }
 
  private:
+  template <class From, class To>
+  void convert(const From& from, const To& to) const {
+    using Value = typename To::value_type;
+    static const std::string label = "poresph::multigrid::convert";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, to.extent(0)),
+        KOKKOS_LAMBDA(long long i) { to(i) = static_cast<Value>(from(i)); });
+    space_.fence();
+  }
+
   static constexpr long long kCoarsest = 64;
   static constexpr double kOvercorrection = 2.0;
   struct Level {
     std::array<int, Dim> shape{};
     long long size = 0;
-    View diag, x, b, r;
+    Field diag, inverse_diag, x, b;  // inverse_diag: 1 / diag, 0 off the unknowns
     Couplings up;  // to the +e_d neighbour; the -e_d coupling is the neighbour's up
     // The finest level's couplings are 1 between two unknowns and 0 else,
     // and x is 0 off the unknowns (no sweep or correction writes there): so
@@ -109,10 +131,10 @@ class LatticeMultigrid {
     level.shape = shape;
     level.size = 1;
     for (int d = 0; d < Dim; ++d) level.size *= shape[d];
-    level.diag = View("multigrid_diag", level.size);
-    level.x = View("multigrid_x", level.size);
-    level.b = View("multigrid_b", level.size);
-    level.r = View("multigrid_r", level.size);
+    level.diag = Field("multigrid_diag", level.size);
+    level.inverse_diag = Field("multigrid_inverse_diag", level.size);
+    level.x = Field("multigrid_x", level.size);
+    level.b = Field("multigrid_b", level.size);
     level.up = Couplings("multigrid_up", level.size);
     return level;
   }
@@ -157,7 +179,16 @@ class LatticeMultigrid {
     }
     Kokkos::deep_copy(coarse.diag, cdiag);
     Kokkos::deep_copy(coarse.up, cup);
+    take_inverse_diag(coarse);
     return coarse;
+  }
+  void take_inverse_diag(const Level& level) const {
+    const auto diag = level.diag, inverse = level.inverse_diag;
+    static const std::string label = "poresph::multigrid::inverse_diag";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, level.size),
+        KOKKOS_LAMBDA(long long i) { inverse(i) = diag(i) == 0 ? Real(0) : Real(1) / diag(i); });
+    space_.fence();
   }
 
   static long long aggregate(const Level& fine, const Level& coarse, long long i) {
@@ -195,32 +226,29 @@ class LatticeMultigrid {
     }
     return l;
   }
-  // (L x)_i, or the Gauss-Seidel update b_i + sum of couplings x_j, at point
-  // c of a line; with Unit (Level::unit_couplings) the same sum, term for
-  // term, without loading the couplings.
-  template <bool Unit>
-  KOKKOS_INLINE_FUNCTION static double couplings(const Couplings& up, const View& x, const Line& l, int c, int n) {
-    const long long i = l.first + c;
-    const long long left = c == 0 ? i + n - 1 : i - 1, right = c + 1 == n ? i - (n - 1) : i + 1;
+  // The sum of couplings x_j at point i of line l, whose neighbours along x
+  // are left and right (periodic): what L x subtracts from diag x, and what
+  // a Gauss-Seidel update adds to b. With Unit (Level::unit_couplings) the
+  // same sum, term for term, without loading the couplings. Summed in
+  // double, whatever x holds.
+  template <bool Unit, class X>
+  KOKKOS_INLINE_FUNCTION static double couplings(const Couplings& up, const X& x, const Line& l, long long i,
+                                                 long long left, long long right) {
     if constexpr (Unit) {
-      double sum = x(right) + x(left);
-      for (int d = 1; d < Dim; ++d) sum += x(i + l.above[d]) + x(i + l.below[d]);
+      double sum = double(x(right)) + x(left);
+      for (int d = 1; d < Dim; ++d) sum += double(x(i + l.above[d])) + x(i + l.below[d]);
       return sum;
     } else {
-      double sum = up(i, 0) * x(right) + up(left, 0) * x(left);
-      for (int d = 1; d < Dim; ++d) sum += up(i, d) * x(i + l.above[d]) + up(i + l.below[d], d) * x(i + l.below[d]);
+      double sum = double(up(i, 0)) * x(right) + double(up(left, 0)) * x(left);
+      for (int d = 1; d < Dim; ++d)
+        sum += double(up(i, d)) * x(i + l.above[d]) + double(up(i + l.below[d], d)) * x(i + l.below[d]);
       return sum;
     }
   }
 
-  void apply_level(const Level& level, const View& x, const View& y) const {
-    if (level.unit_couplings)
-      apply_level_with<true>(level, x, y);
-    else
-      apply_level_with<false>(level, x, y);
-  }
-  template <bool Unit>
-  void apply_level_with(const Level& level, const View& x, const View& y) const {
+  template <bool Unit, class X, class Y>
+  void apply_level_with(const Level& level, const X& x, const Y& y) const {
+    using Value = typename Y::value_type;
     const auto diag = level.diag;
     const auto up = level.up;
     const auto shape = level.shape;
@@ -229,9 +257,12 @@ class LatticeMultigrid {
     Kokkos::parallel_for(
         label, Kokkos::RangePolicy<ExecSpace>(space_, 0, lines), KOKKOS_LAMBDA(long long line) {
           const Line l = line_of(shape, line);
-          for (int c = 0; c < shape[0]; ++c) {
+          const int n = shape[0];
+          for (int c = 0; c < n; ++c) {
             const long long i = l.first + c;
-            y(i) = diag(i) == 0 ? 0.0 : diag(i) * x(i) - couplings<Unit>(up, x, l, c, shape[0]);
+            const long long left = c == 0 ? i + n - 1 : i - 1, right = c + 1 == n ? i - (n - 1) : i + 1;
+            const double sum = double(diag(i)) * x(i) - couplings<Unit>(up, x, l, i, left, right);
+            y(i) = diag(i) == 0 ? Value(0) : static_cast<Value>(sum);
           }
         });
     space_.fence();
@@ -246,9 +277,14 @@ class LatticeMultigrid {
     else
       smooth_with<false>(level, forward);
   }
+  // An update is (b_i + couplings) times the inverse diagonal, which is 0
+  // off the unknowns (x stays 0 there), so the loop has no branch and no
+  // division: the multigrid's cycles are bound by the latency of each
+  // update, not by memory (docs/steady_solver.md). The two ends of a line,
+  // whose neighbours wrap around, are done apart from its interior.
   template <bool Unit>
   void smooth_with(const Level& level, bool forward) const {
-    const auto diag = level.diag;
+    const auto inverse_diag = level.inverse_diag;
     const auto up = level.up;
     const auto shape = level.shape;
     const auto x = level.x, b = level.b;
@@ -259,10 +295,22 @@ class LatticeMultigrid {
       Kokkos::parallel_for(
           label, Kokkos::RangePolicy<ExecSpace>(space_, 0, lines), KOKKOS_LAMBDA(long long line) {
             const Line l = line_of(shape, line);
-            for (int c = (colour + l.parity) % 2; c < shape[0]; c += 2) {
-              const long long i = l.first + c;
-              if (diag(i) != 0) x(i) = (b(i) + couplings<Unit>(up, x, l, c, shape[0])) / diag(i);
+            const int n = shape[0];
+            auto update = [&](long long i, long long left, long long right) {
+              x(i) = static_cast<Real>((b(i) + couplings<Unit>(up, x, l, i, left, right)) * inverse_diag(i));
+            };
+            const int first = (colour + l.parity) % 2;
+            if (n == 1) {
+              if (first == 0) update(l.first, l.first, l.first);
+              return;
             }
+            if (first == 0) update(l.first, l.first + n - 1, l.first + 1);
+            const int end = n - 1;  // the last point: not in the interior loop
+            for (int c = first == 0 ? 2 : 1; c < end; c += 2) {
+              const long long i = l.first + c;
+              update(i, i - 1, i + 1);
+            }
+            if ((end - first) % 2 == 0) update(l.first + end, l.first + end - 1, l.first);
           });
       space_.fence();
     }
@@ -282,16 +330,15 @@ class LatticeMultigrid {
   // The finest level is not over-weighted: its correction is the one the
   // sign patterns' weights act on (solver/LatticePreconditioner.hpp).
   void cycle_from(size_t l) const {
-    const Level& level = levels_[l];
     if (l + 1 == levels_.size()) {
-      for (int sweep = 0; sweep < 50; ++sweep) smooth(level, sweep % 2 == 0);
+      solve_coarsest();
       return;
     }
     descend(l);
     cycle_from(l + 1);
     if (l >= 1) {
       prolong(l, 1.0);
-      restrict_residual(l);
+      restrict_residual(l, false);
       cycle_from(l + 1);
     }
     ascend(l, l >= 1 ? kOvercorrection : 1.0);
@@ -302,49 +349,71 @@ class LatticeMultigrid {
     const Level& level = levels_[l];
     smooth(level, true);
     smooth(level, true);
-    restrict_residual(l);
+    restrict_residual(l, true);
   }
-  // Level l's residual restricted to level l + 1's right-hand side (the
-  // aggregate's sum of residuals), the coarse x set to 0. By coarse lines
-  // along x: the fine lines of a line's aggregates are found once, not each
-  // point's indices by integer divisions (docs/steady_solver.md).
-  void restrict_residual(size_t l) const {
+  // Level l's residual b - L x restricted to level l + 1's right-hand side
+  // (the aggregate's sum of residuals), the coarse x set to 0, the residual
+  // computed where it is summed. By coarse lines along x: the fine lines of
+  // a line's aggregates are found once, not each point's indices by integer
+  // divisions (docs/steady_solver.md). After a forward sweep (smoothed) on
+  // a level whose sides are all even, the colour swept last has a zero
+  // residual to round-off: each of its points was solved for with
+  // neighbours all of the other colour, which have not moved since. So
+  // only the other colour's residual is computed, half the points. (Along
+  // an odd side the colours meet across the periodic end, and every point
+  // is computed.)
+  void restrict_residual(size_t l, bool smoothed) const {
+    if (levels_[l].unit_couplings)
+      restrict_with<true>(l, smoothed);
+    else
+      restrict_with<false>(l, smoothed);
+  }
+  template <bool Unit>
+  void restrict_with(size_t l, bool smoothed) const {
     const Level& level = levels_[l];
-    apply_level(level, level.x, level.r);
     const Level& coarse = levels_[l + 1];
-    const auto r = level.r, b = level.b, diag = level.diag;
+    const auto x = level.x, b = level.b, diag = level.diag;
+    const auto up = level.up;
     const auto cb = coarse.b;
     const auto fine_shape = level.shape, coarse_shape = coarse.shape;
-    Kokkos::deep_copy(space_, coarse.x, 0.0);
+    bool even = true;
+    for (int d = 0; d < Dim; ++d) even = even && fine_shape[d] % 2 == 0;
+    const int settled = smoothed && even ? 1 : -1;  // the colour whose residual is zero, if any
+    Kokkos::deep_copy(space_, coarse.x, Real(0));
     space_.fence();
     constexpr int kUpper = 1 << (Dim - 1);  // an aggregate's fine lines: a bit per axis past x
     static const std::string label_restrict = "poresph::multigrid::restrict";
     Kokkos::parallel_for(
         label_restrict, Kokkos::RangePolicy<ExecSpace>(space_, 0, coarse.size / coarse_shape[0]),
         KOKKOS_LAMBDA(long long line) {
-          long long fine_line[kUpper];
+          Line fine_line[kUpper];
           bool line_inside[kUpper];
           for (int upper = 0; upper < kUpper; ++upper) {
-            long long rest = line, first = 0, stride = fine_shape[0];
+            long long rest = line, fine = 0, stride = 1;
             bool inside = true;
             for (int d = 1; d < Dim; ++d) {
               const int c = 2 * static_cast<int>(rest % coarse_shape[d]) + ((upper >> (d - 1)) & 1);
               rest /= coarse_shape[d];
               inside = inside && c < fine_shape[d];
-              first += c * stride;
+              fine += c * stride;
               stride *= fine_shape[d];
             }
-            fine_line[upper] = first, line_inside[upper] = inside;
+            line_inside[upper] = inside;
+            if (inside) fine_line[upper] = line_of(fine_shape, fine);
           }
+          const int n = fine_shape[0];
           for (int c0 = 0; c0 < coarse_shape[0]; ++c0) {
             double sum = 0;
             for (int corner = 0; corner < (1 << Dim); ++corner) {  // bit d: the corner's step along axis d
               const int c = 2 * c0 + (corner & 1);
-              if (!line_inside[corner >> 1] || c >= fine_shape[0]) continue;
-              const long long i = fine_line[corner >> 1] + c;
-              if (diag(i) != 0) sum += b(i) - r(i);
+              if (!line_inside[corner >> 1] || c >= n) continue;
+              const Line& fl = fine_line[corner >> 1];
+              const long long i = fl.first + c;
+              if (diag(i) == 0 || (c + fl.parity) % 2 == settled) continue;
+              const long long left = c == 0 ? i + n - 1 : i - 1, right = c + 1 == n ? i - (n - 1) : i + 1;
+              sum += b(i) - (double(diag(i)) * x(i) - couplings<Unit>(up, x, fl, i, left, right));
             }
-            cb(line * coarse_shape[0] + c0) = sum;
+            cb(line * coarse_shape[0] + c0) = static_cast<Real>(sum);
           }
         });
     space_.fence();
@@ -375,13 +444,66 @@ class LatticeMultigrid {
           }
           const long long first = line * fine_shape[0], coarse_first = coarse_line * coarse_shape[0];
           for (int c = 0; c < fine_shape[0]; ++c)
-            if (diag(first + c) != 0) x(first + c) += weight * cx(coarse_first + c / 2);
+            if (diag(first + c) != 0) x(first + c) += static_cast<Real>(weight * cx(coarse_first + c / 2));
+        });
+    space_.fence();
+  }
+
+  // The coarsest level (kCoarsest points at most) solved exactly: x = L^+ b
+  // by its pseudo-inverse, which the W-cycle asks for 2^(levels - 2) times a
+  // cycle. Fifty Gauss-Seidel sweeps did nearly the same, in 100 kernel
+  // launches a visit: a quarter of a cycle's updates on a lattice of 200²
+  // (docs/steady_solver.md). The pseudo-inverse, because a lattice with no
+  // solid, or a pocket of one that none touches, has a null space.
+  using Dense = Kokkos::View<Real**, MemorySpace>;
+  static Dense pseudo_inverse(const Level& level) {
+    const int n = static_cast<int>(level.size);
+    auto diag = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), level.diag);
+    auto up = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), level.up);
+    std::vector<double> a(static_cast<size_t>(n) * n, 0.0);  // column-major, symmetric
+    for (int i = 0; i < n; ++i) {
+      a[i + static_cast<size_t>(n) * i] += diag(i);
+      for (int d = 0; d < Dim; ++d) {
+        const int j = static_cast<int>(neighbour(level, i, d, +1));
+        a[i + static_cast<size_t>(n) * j] -= up(i, d);
+        a[j + static_cast<size_t>(n) * i] -= up(i, d);
+      }
+    }
+    std::vector<double> eigenvalues(n), work(std::max(1, 3 * n));
+    int info = 0;
+    Teuchos::LAPACK<int, double>().SYEV('V', 'U', n, a.data(), n, eigenvalues.data(), work.data(),
+                                         static_cast<int>(work.size()), &info);
+    Dense inverse("multigrid_coarsest_inverse", n, n);
+    auto host = Kokkos::create_mirror_view(inverse);
+    Kokkos::deep_copy(host, Real(0));
+    const double largest = n > 0 ? std::fabs(eigenvalues[n - 1]) : 0.0;
+    for (int k = 0; k < n && info == 0; ++k) {
+      if (!(eigenvalues[k] > 1e-10 * largest)) continue;  // the null space (and round-off about it)
+      const double* v = a.data() + static_cast<size_t>(n) * k;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) host(i, j) += static_cast<Real>(v[i] * v[j] / eigenvalues[k]);
+    }
+    Kokkos::deep_copy(inverse, host);
+    return inverse;
+  }
+  void solve_coarsest() const {
+    const Level& level = levels_.back();
+    const auto inverse = coarsest_inverse_;
+    const auto x = level.x, b = level.b;
+    const int n = static_cast<int>(level.size);
+    static const std::string label = "poresph::multigrid::solve_coarsest";
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(space_, 0, n), KOKKOS_LAMBDA(int i) {
+          double sum = 0;
+          for (int j = 0; j < n; ++j) sum += double(inverse(i, j)) * b(j);
+          x(i) = static_cast<Real>(sum);
         });
     space_.fence();
   }
 
   ExecSpace space_;
   std::vector<Level> levels_;
+  Dense coarsest_inverse_;
 };
 
 }  // namespace poresph

@@ -31,6 +31,7 @@ class LatticePreconditioner {
  public:
   using MemorySpace = typename ExecSpace::memory_space;
   using View = Kokkos::View<double*, MemorySpace>;
+  using Multigrid = LatticeMultigrid<Dim, ExecSpace>;
 
   LatticePreconditioner() = default;
 
@@ -143,7 +144,9 @@ class LatticePreconditioner {
   double values_held() const {
     double values = 2.5 * static_cast<double>(gathered_.size()) + static_cast<double>(own_.size());
     const double levels = (1 << Dim) / ((1 << Dim) - 1.0);
-    for (const auto& b : b_) values += (3.0 + (4.0 + Dim) * levels) * static_cast<double>(b.extent(0));
+    const double level_value = sizeof(typename Multigrid::Field::value_type) / double(sizeof(double));
+    for (const auto& b : b_)
+      values += (3.0 + (4.0 + Dim) * levels * level_value) * static_cast<double>(b.extent(0));
     return values;
   }
 
@@ -177,7 +180,7 @@ class LatticePreconditioner {
       for (int l = 0; l < lattices; ++l) coarse.push_back(slice(all_coarse_, slot_[l], coarse_points_));
       weigh_patterns(coarse);
       for (int l = 0; l < lattices; ++l)
-        if (is_mine(l)) Kokkos::deep_copy(multigrid_[l].coarse_correction(), coarse[l]);
+        if (is_mine(l)) copy_values(coarse[l], multigrid_[l].coarse_correction());
     }
     for (int l = 0; l < lattices; ++l)
       if (is_mine(l)) multigrid_[l].cycle_up(z_[l]);
@@ -197,6 +200,16 @@ class LatticePreconditioner {
   static HostSlice slice(std::vector<double>& values, long long slot, long long length) {
     return HostSlice(values.data() + slot * length, length);
   }
+  // to = from, where the two may hold different scalars (the multigrid's
+  // levels hold floats), through host copies.
+  template <class From, class To>
+  static void copy_values(const From& from, const To& to) {
+    auto host_from = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), from);
+    auto host_to = Kokkos::create_mirror_view(to);
+    using Value = typename To::value_type;
+    for (size_t p = 0; p < from.extent(0); ++p) host_to(p) = static_cast<Value>(host_from(p));
+    Kokkos::deep_copy(to, host_to);
+  }
   // all = every sub-lattice's values(l) (length each), in gathered order;
   // own: this process's, the buffer it sends. With one process they are one.
   template <class ValuesOf>
@@ -211,7 +224,7 @@ class LatticePreconditioner {
       if (is_mine(l)) first_slot = std::min<long long>(first_slot, slot_[l]);
     for (int l = 0; l < lattices; ++l)
       if (is_mine(l))
-        Kokkos::deep_copy(alone ? slice(all, slot_[l], length) : slice(own, slot_[l] - first_slot, length), values(l));
+        copy_values(values(l), alone ? slice(all, slot_[l], length) : slice(own, slot_[l] - first_slot, length));
     if (!alone) comm_.all_gather(own.data(), counts, all.data());
   }
 
@@ -248,7 +261,7 @@ class LatticePreconditioner {
   long long offset_ = 0;           // this process's first in the gathered order
   std::vector<int> sub_;           // per gathered value: its sub-lattice
   std::vector<long long> local_;   // and its point there
-  std::vector<LatticeMultigrid<Dim, ExecSpace>> multigrid_;
+  std::vector<Multigrid> multigrid_;
   std::vector<View> b_, z_;
   std::vector<long long> slot_;                // per sub-lattice: its place in the gathered order
   std::vector<int> z_counts_, coarse_counts_;  // per process: the values of its sub-lattices it gives

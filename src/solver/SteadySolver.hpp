@@ -133,7 +133,9 @@ class SteadySolver {
     report.setup_seconds = seconds_since(start);
 
     View rhs("steady_rhs", n), step("steady_step", n);
-    auto part = [&](const View& full, int from, int to) { return View(Kokkos::subview(full, std::make_pair(from, to))); };
+    auto part = [&](const View& full, int from, int to) {
+      return View(Kokkos::subview(full, std::make_pair(from, to)));
+    };
     double residual = relative_residual(system, reference), previous_residual = residual, retry_tolerance = 0;
     SteadyProgress status;
     status.residual = residual;
@@ -155,7 +157,8 @@ class SteadySolver {
       // terms (1/rho, p/rho^2). On problem III at 0.005 L a first step
       // solved to 5e-5 left a residual of 4.6e-4, and 1.4e-4 without
       // convection: solved further, it only costs iterations.
-      const double reduction = report.nonlinear_iterations == 0 ? 1e-3 : 0.9 * std::pow(residual / previous_residual, 2);
+      const double reduction =
+          report.nonlinear_iterations == 0 ? 1e-3 : 0.9 * std::pow(residual / previous_residual, 2);
       krylov.tolerance = std::min(
           0.1, std::max({options_.linear_tolerance, 0.1 * options_.tolerance / residual, reduction}));
       // After a step that lowered nothing: the same step solved a hundred times further.
