@@ -297,6 +297,31 @@ double relative_residual(const KrylovVectors<Space>& ops, const Apply& apply, co
   return ops.norm(r) / ops.norm(b);
 }
 
+// The Krylov inner product, a sum in lanes over blocks (core/BlockedSum.hpp),
+// is the sum at every length: below one block, at one, one past it, and
+// with a block's tail; against a sum in long double, to round-off.
+TYPED_TEST(SteadySolverTest, BlockedSumIsTheSumAtEveryLength) {
+  using Space = TypeParam;
+  using V = Kokkos::View<double*, typename Space::memory_space>;
+  const KrylovVectors<Space> ops{Space(), Communicator()};
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  for (long long n : {1LL, 7LL, 63LL, 64LL, 65LL, 1000LL, 100003LL}) {
+    V a("a", n), b("b", n);
+    auto ha = Kokkos::create_mirror_view(a);
+    auto hb = Kokkos::create_mirror_view(b);
+    long double exact = 0, size = 0;
+    for (long long i = 0; i < n; ++i) {
+      ha(i) = value(random), hb(i) = value(random);
+      exact += static_cast<long double>(ha(i)) * hb(i);
+      size += std::fabs(static_cast<long double>(ha(i)) * hb(i));
+    }
+    Kokkos::deep_copy(a, ha);
+    Kokkos::deep_copy(b, hb);
+    EXPECT_NEAR(ops.dot(a, b), static_cast<double>(exact), 1e-14 * static_cast<double>(size)) << n << " summands";
+  }
+}
+
 // FGMRES solves a small nonsymmetric system exactly, with restarts, and
 // its bases grow only as far as the iterations reach.
 TYPED_TEST(SteadySolverTest, FgmresSolvesASmallSystem) {

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/BlockedSum.hpp"
 #include "parallel/Communicator.hpp"
 
 namespace poresph {
@@ -25,11 +26,8 @@ struct KrylovVectors {
   Communicator comm;
 
   double dot(const View& a, const View& b) const {
-    double local = 0;
     static const std::string label = "poresph::krylov::dot";
-    Kokkos::parallel_reduce(
-        label, Kokkos::RangePolicy<ExecSpace>(space, 0, a.extent(0)),
-        KOKKOS_LAMBDA(int i, double& sum) { sum += a(i) * b(i); }, local);
+    const double local = blocked_sum(space, label, a.extent(0), KOKKOS_LAMBDA(long long i) { return a(i) * b(i); });
     return comm.sum(local);
   }
   double norm(const View& a) const { return std::sqrt(dot(a, a)); }
