@@ -31,6 +31,17 @@ struct KrylovVectors {
     return comm.sum(local);
   }
   double norm(const View& a) const { return std::sqrt(dot(a, a)); }
+  // y += alpha x, then y . z (z may be y), in one pass.
+  double update_dot(double alpha, const View& x, const View& y, const View& z) const {
+    static const std::string label = "poresph::krylov::update_dot";
+    const double local = blocked_sum(
+        space, label, y.extent(0), KOKKOS_LAMBDA(long long i) {
+          const double updated = y(i) + alpha * x(i);
+          y(i) = updated;
+          return updated * z(i);
+        });
+    return comm.sum(local);
+  }
   // y = alpha x + beta y; with beta = 0, y is not read (as in BLAS), so
   // that a vector kept from an earlier solve never carries its old values in.
   void update(double alpha, const View& x, double beta, const View& y) const {
@@ -150,12 +161,12 @@ KrylovResult fgmres(const KrylovVectors<ExecSpace>& ops, Apply&& apply, Precondi
     for (; k < m && result.iterations < options.max_iterations; ++k) {
       precondition(V[k], basis(Z, true, k));
       apply(Z[k], w);
-      // Modified Gram-Schmidt.
-      for (int i = 0; i <= k; ++i) {
-        h(i, k) = ops.dot(w, V[i]);
-        ops.update(-h(i, k), V[i], 1.0, w);
-      }
-      h(k + 1, k) = ops.norm(w);
+      // Modified Gram-Schmidt, each subtraction in one pass with the next
+      // inner product (the same arithmetic as the two passes, w read once
+      // less).
+      h(0, k) = ops.dot(w, V[0]);
+      for (int i = 0; i < k; ++i) h(i + 1, k) = ops.update_dot(-h(i, k), V[i], w, V[i + 1]);
+      h(k + 1, k) = std::sqrt(ops.update_dot(-h(k, k), V[k], w, w));
       if (h(k + 1, k) > 0) ops.update(1.0 / h(k + 1, k), w, 0.0, basis(V, false, k + 1));
       for (int i = 0; i < k; ++i) {
         const double a = h(i, k), c = h(i + 1, k);

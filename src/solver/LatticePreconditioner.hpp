@@ -96,6 +96,7 @@ class LatticePreconditioner {
       active[sub][local] = 1;
     }
     for (int l = 0; l < lattices; ++l) {
+      mine_.push_back(is_mine(l));
       multigrid_.emplace_back(space, shape, active[l]);
       b_.push_back(View("lattice_b", points));
       z_.push_back(View("lattice_z", points));
@@ -157,15 +158,14 @@ class LatticePreconditioner {
     mine.resize(own_.size());
     for (size_t k = 0; k < own_.size(); ++k) mine[k] = hr(own_[k]);
     comm_.all_gather(mine.data(), counts_, gathered_.data());
+    // Every gathered value lands on its own point, the same points at every
+    // apply: the other points of b keep the zero they were made with.
     const int lattices = static_cast<int>(b_.size());
     std::vector<decltype(Kokkos::create_mirror_view(b_[0]))> hb(lattices);
     for (int l = 0; l < lattices; ++l)
-      if (is_mine(l)) {
-        hb[l] = Kokkos::create_mirror_view(b_[l]);
-        Kokkos::deep_copy(hb[l], 0.0);
-      }
+      if (is_mine(l)) hb[l] = Kokkos::create_mirror_view(b_[l]);
     for (size_t k = 0; k < gathered_.size(); ++k)
-      if (is_mine(sub_[k])) hb[sub_[k]](local_[k]) = gathered_[k];
+      if (mine_[sub_[k]]) hb[sub_[k]](local_[k]) = gathered_[k];
     for (int l = 0; l < lattices; ++l)
       if (is_mine(l)) {
         Kokkos::deep_copy(b_[l], hb[l]);
@@ -261,6 +261,7 @@ class LatticePreconditioner {
   long long offset_ = 0;           // this process's first in the gathered order
   std::vector<int> sub_;           // per gathered value: its sub-lattice
   std::vector<long long> local_;   // and its point there
+  std::vector<char> mine_;         // per sub-lattice: is_mine(), looked up per value without a division
   std::vector<Multigrid> multigrid_;
   std::vector<View> b_, z_;
   std::vector<long long> slot_;                // per sub-lattice: its place in the gathered order
