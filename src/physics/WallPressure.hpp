@@ -279,9 +279,16 @@ void extrapolate_wall_pressure_change(const ExecSpace& space, const Particles<Di
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space, 0, P.owned), KOKKOS_LAMBDA(int w) {
         if (kind(w) == kFluid) return;
-        double sum = 0;
-        for (int k = walls.begin(w); k < walls.end(w); ++k) sum += weights(k) * dp(walls.neighbour(k));
-        dp(w) = sum;
+        // Four running sums, so that the gathers of dp overlap instead of
+        // waiting on one chain of additions (a wall particle has tens of
+        // fluid neighbours; in 3D this loop was 8 % of a steady solve).
+        double sum[4] = {0, 0, 0, 0};
+        const int begin = walls.begin(w), end = walls.end(w);
+        int k = begin;
+        for (; k + 4 <= end; k += 4)
+          for (int j = 0; j < 4; ++j) sum[j] += weights(k + j) * dp(walls.neighbour(k + j));
+        for (; k < end; ++k) sum[0] += weights(k) * dp(walls.neighbour(k));
+        dp(w) = (sum[0] + sum[1]) + (sum[2] + sum[3]);
       });
 }
 
