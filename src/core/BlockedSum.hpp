@@ -15,7 +15,7 @@
 // A term must be arithmetic, without a branch: Debian's GCC 12.2 at -O3
 // with AVX2 vectorises a conditional term (c ? x : 0.0) in these lanes
 // into wrong sums (docs/building.md); a product, as in the inner products,
-// comes out right (test BlockedSum.IsTheSumAtEveryLength).
+// comes out right (test BlockedSumIsTheSumAtEveryLength).
 #include <Kokkos_Core.hpp>
 
 #include <string>

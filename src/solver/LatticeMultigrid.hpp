@@ -15,16 +15,17 @@
 
 #include <array>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace poresph {
 
 // Real: the scalar the levels hold. The steady solver's preconditioners
-// take float: a cycle is bound by memory traffic, and a preconditioner
-// inside a flexible Krylov method whose inner solves stop at 1e-2 has no
-// use for double's digits (docs/steady_solver.md, "The multigrid in single
-// precision").
+// take float: a preconditioner inside a flexible Krylov method whose inner
+// solves stop at 1e-2 has no use for double's digits, and a lattice larger
+// than the cache is swept at the speed of memory, where float halves the
+// traffic (docs/steady_solver.md, "The cycle made lean").
 template <int Dim, class ExecSpace, class Real = float>
 class LatticeMultigrid {
  public:
@@ -36,8 +37,8 @@ class LatticeMultigrid {
   LatticeMultigrid() = default;
 
   // shape: points per axis; active(i) = 1 for an unknown (x fastest). A
-  // lattice with no solid has the constant as null vector; the coarsest
-  // level is swept, not factorised, so that does no harm.
+  // lattice with no solid has the constant as null vector, which the
+  // coarsest level's pseudo-inverse leaves out.
   LatticeMultigrid(const ExecSpace& space, const std::array<int, Dim>& shape, const std::vector<char>& active)
       : space_(space) {
     Level fine = make_level(shape);
@@ -473,11 +474,14 @@ class LatticeMultigrid {
     int info = 0;
     Teuchos::LAPACK<int, double>().SYEV('V', 'U', n, a.data(), n, eigenvalues.data(), work.data(),
                                          static_cast<int>(work.size()), &info);
+    if (info != 0)
+      throw std::runtime_error("LatticeMultigrid: LAPACK's dsyev failed on the coarsest level (info " +
+                               std::to_string(info) + ")");
     Dense inverse("multigrid_coarsest_inverse", n, n);
     auto host = Kokkos::create_mirror_view(inverse);
     Kokkos::deep_copy(host, Real(0));
     const double largest = n > 0 ? std::fabs(eigenvalues[n - 1]) : 0.0;
-    for (int k = 0; k < n && info == 0; ++k) {
+    for (int k = 0; k < n; ++k) {
       if (!(eigenvalues[k] > 1e-10 * largest)) continue;  // the null space (and round-off about it)
       const double* v = a.data() + static_cast<size_t>(n) * k;
       for (int i = 0; i < n; ++i)
