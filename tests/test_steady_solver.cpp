@@ -17,6 +17,7 @@
 #include "solver/FluidRegions.hpp"
 #include "solver/LatticeMultigrid.hpp"
 #include "solver/LatticePreconditioner.hpp"
+#include "solver/LatticeSharpening.hpp"
 #include "solver/SteadySolver.hpp"
 #include "solver/SteadySystem.hpp"
 
@@ -525,6 +526,82 @@ TYPED_TEST(SteadySolverTest, PatternWeightsScaleTheSmoothPartOfEachPattern) {
     EXPECT_GT(growth, 0.8 * weights[m]) << "pattern " << m;
     EXPECT_LT(growth, 1.01 * weights[m]) << "pattern " << m;
   }
+}
+
+// On a lattice of unknowns only, a Fourier mode is multiplied by
+// prod_d (1 + beta sin^2(k_d / 2)); solid points stay 0 and act as zeros.
+TEST(LatticeSharpening, MultipliesEachModeByItsSymbol) {
+  const std::array<int, 3> shape{8, 6, 4};
+  const std::array<int, 3> wave{3, 1, 2};
+  const double beta = 4.0;
+  const int points = shape[0] * shape[1] * shape[2];
+  std::vector<float> values(points), scratch, active(points, 1.0f);
+  std::vector<double> k(3), expected(points);
+  double factor = 1.0;
+  for (int d = 0; d < 3; ++d) {
+    k[d] = 2 * M_PI * wave[d] / shape[d];
+    factor *= 1.0 + beta * std::pow(std::sin(k[d] / 2), 2);
+  }
+  for (int c = 0; c < points; ++c) {
+    const int i = c % shape[0], j = c / shape[0] % shape[1], l = c / (shape[0] * shape[1]);
+    expected[c] = std::cos(k[0] * i + k[1] * j + k[2] * l + 0.3);
+    values[c] = static_cast<float>(expected[c]);
+  }
+  sharpen_lattice<3>(values, scratch, shape, active, beta);
+  for (int c = 0; c < points; ++c) EXPECT_NEAR(values[c], factor * expected[c], 2e-5 * factor) << c;
+}
+
+TEST(LatticeSharpening, HoldsSolidAtZero) {
+  // Five points along x, one along y (a factor 1 there); point 2 solid.
+  std::vector<float> values{1, 1, 0, 1, 1}, scratch, active{1, 1, 0, 1, 1};
+  const double beta = 2.0;
+  sharpen_lattice<2>(values, scratch, {5, 1}, active, beta);
+  EXPECT_EQ(values[2], 0.0f);
+  EXPECT_FLOAT_EQ(values[0], 1.0f);                 // both neighbours 1: the constant is kept
+  EXPECT_FLOAT_EQ(values[1], 1.0f + beta / 4);      // the solid neighbour counts as 0
+  EXPECT_FLOAT_EQ(values[3], 1.0f + beta / 4);
+}
+
+// The preconditioner sharpens its cycle's result on the lattice the
+// particles sit on: the same as sharpening the plain result by position.
+TYPED_TEST(SteadySolverTest, PreconditionerSharpensOnTheParticlesLattice) {
+  using Space = TypeParam;
+  using V = Kokkos::View<double*, typename Space::memory_space>;
+  const int nx = 32, ny = 24;
+  const double dx = 1.0 / nx;
+  Kokkos::View<double* [2], typename Space::memory_space> x("x", nx * ny);
+  V fluid("fluid", nx * ny), r("r", nx * ny), plain("plain", nx * ny), sharp("sharp", nx * ny);
+  auto hx = Kokkos::create_mirror_view(x);
+  auto hf = Kokkos::create_mirror_view(fluid);
+  auto hr = Kokkos::create_mirror_view(r);
+  // The particles in an order that is not the lattice's.
+  for (int p = 0; p < nx * ny; ++p) {
+    const int c = (7 * p) % (nx * ny), i = c % nx, j = c / nx;
+    hx(p, 0) = (i + 0.5) * dx, hx(p, 1) = (j + 0.5) * dx;
+    hf(p) = std::hypot(i + 0.5 - nx / 2.0, j + 0.5 - ny / 2.0) > 5 ? 1.0 : 0.0;
+    hr(p) = hf(p) * std::sin(0.7 * i + 1.3 * j);
+  }
+  Kokkos::deep_copy(x, hx);
+  Kokkos::deep_copy(fluid, hf);
+  Kokkos::deep_copy(r, hr);
+  LatticePreconditioner<2, Space> wide(Space(), Communicator(), x, fluid, nx * ny, {nx, ny}, dx, 2);
+  wide.apply(r, plain);
+  const double beta = 2.0;
+  wide.set_sharpening(beta);
+  wide.apply(r, sharp);
+  auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), plain);
+  auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sharp);
+  std::vector<float> lattice(nx * ny, 0.0f), scratch, active(nx * ny, 0.0f);
+  auto at = [&](int p) { return static_cast<int>(hx(p, 0) / dx) + nx * static_cast<int>(hx(p, 1) / dx); };
+  for (int p = 0; p < nx * ny; ++p) {
+    active[at(p)] = static_cast<float>(hf(p));
+    lattice[at(p)] = static_cast<float>(hp(p));
+  }
+  sharpen_lattice<2>(lattice, scratch, {nx, ny}, active, beta);
+  double largest = 0;
+  for (int p = 0; p < nx * ny; ++p) largest = std::max(largest, std::abs(hs(p)));
+  ASSERT_GT(largest, 0);
+  for (int p = 0; p < nx * ny; ++p) EXPECT_NEAR(hs(p), lattice[at(p)], 1e-6 * largest) << p;
 }
 
 // The steady solve to a relative residual of kTightTolerance.

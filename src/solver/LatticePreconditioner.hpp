@@ -19,10 +19,12 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "parallel/Communicator.hpp"
 #include "solver/LatticeMultigrid.hpp"
+#include "solver/LatticeSharpening.hpp"
 
 namespace poresph {
 
@@ -95,6 +97,8 @@ class LatticePreconditioner {
       sub_[k] = sub, local_[k] = local;
       active[sub][local] = 1;
     }
+    lattice_ = lattice;
+    lattice_index_ = std::move(all);
     for (int l = 0; l < lattices; ++l) {
       mine_.push_back(is_mine(l));
       multigrid_.emplace_back(space, shape, active[l]);
@@ -138,12 +142,26 @@ class LatticePreconditioner {
   // where L alone is right on the smooth modes only; the steady solver takes
   // (c_0 / c_m)^(1/2), which measured better (SteadySolver).
   void set_pattern_weights(const std::vector<double>& weights) { pattern_weights_ = weights; }
+  // The cycle's result multiplied by prod_d (1 + beta sin^2(k_d / 2)) on the
+  // whole lattice (solver/LatticeSharpening.hpp); beta = 0: not.
+  void set_sharpening(double beta) {
+    sharpening_ = beta;
+    lattice_active_.clear();
+    if (beta == 0) return;
+    long long points = 1;
+    for (int d = 0; d < Dim; ++d) points *= lattice_[d];
+    lattice_active_.assign(static_cast<size_t>(points), 0.0f);
+    for (long long g : lattice_index_) lattice_active_[g] = 1.0f;
+  }
   // What this process holds for it, in doubles (for the memory report): per
-  // gathered value the value, its sub-lattice and point; per lattice point
-  // b, z and the gathered z, and the multigrid's diagonal, couplings, x, b
-  // and r on every level (a 2^-Dim geometric series).
+  // gathered value the value, its sub-lattice, its point there and on the
+  // whole lattice; per lattice point b, z and the gathered z, and the
+  // multigrid's diagonal, couplings, x, b and r on every level (a 2^-Dim
+  // geometric series); with the sharpening, its mask and two fields (floats)
+  // over the whole lattice.
   double values_held() const {
-    double values = 2.5 * static_cast<double>(gathered_.size()) + static_cast<double>(own_.size());
+    double values = 3.5 * static_cast<double>(gathered_.size()) + static_cast<double>(own_.size());
+    values += 1.5 * static_cast<double>(lattice_active_.size());
     const double levels = (1 << Dim) / ((1 << Dim) - 1.0);
     const double level_value = sizeof(typename Multigrid::Field::value_type) / double(sizeof(double));
     for (const auto& b : b_)
@@ -187,9 +205,19 @@ class LatticePreconditioner {
     gather_own(z_counts_, points_, [&](int l) { return z_[l]; }, own_z_, all_z_);
     auto out = Kokkos::create_mirror_view(z);
     Kokkos::deep_copy(out, 0.0);
-    for (size_t k = 0; k < own_.size(); ++k) {
-      const long long g = offset_ + static_cast<long long>(k);
-      out(own_[k]) = all_z_[slot_[sub_[g]] * points_ + local_[g]];
+    if (sharpening_ > 0) {
+      // Every process sharpens the whole lattice, which it holds anyway,
+      // and keeps its own points.
+      lattice_z_.assign(lattice_active_.size(), 0.0f);
+      for (size_t g = 0; g < lattice_index_.size(); ++g)
+        lattice_z_[lattice_index_[g]] = static_cast<float>(all_z_[slot_[sub_[g]] * points_ + local_[g]]);
+      sharpen_lattice<Dim>(lattice_z_, lattice_scratch_, lattice_, lattice_active_, sharpening_);
+      for (size_t k = 0; k < own_.size(); ++k) out(own_[k]) = lattice_z_[lattice_index_[offset_ + k]];
+    } else {
+      for (size_t k = 0; k < own_.size(); ++k) {
+        const long long g = offset_ + static_cast<long long>(k);
+        out(own_[k]) = all_z_[slot_[sub_[g]] * points_ + local_[g]];
+      }
     }
     Kokkos::deep_copy(z, out);
   }
@@ -274,6 +302,11 @@ class LatticePreconditioner {
   std::array<int, Dim> pattern_bit_{};
   int pattern_bits_ = 0;
   std::vector<double> pattern_weights_;  // empty: all 1
+  std::array<int, Dim> lattice_{};        // points per axis of the whole lattice
+  std::vector<long long> lattice_index_;  // per gathered value: its point on the whole lattice
+  double sharpening_ = 0;                 // beta; 0: none
+  std::vector<float> lattice_active_;     // with a sharpening: 1 on the unknowns' points, else 0
+  mutable std::vector<float> lattice_z_, lattice_scratch_;
 };
 
 }  // namespace poresph

@@ -98,6 +98,9 @@ class SteadySolver {
   static constexpr auto kDivergence = System::RateTerms::Continuity;
   static constexpr auto kVelocity = System::RateTerms::Viscous;
   static constexpr int kBacktracks = 3;
+  // The DG preconditioner's sharpening (solver/LatticeSharpening.hpp): the
+  // beta that measured fewest inner iterations, 0 to 8 tried (docs/steady_solver.md).
+  static constexpr double kDgSharpening = Dim == 2 ? 2.0 : 4.0;
   // Below this, a velocity row's share of wall drag (wall_weighted_scaling)
   // is the forward difference's rounding (a bulk row's: about 1e-15).
   static constexpr double kDragShareFloor = 1e-6;
@@ -439,6 +442,7 @@ class SteadySolver {
     for (int d = 0; d < Dim; ++d) lattice[d] = static_cast<int>(std::lround(sim_.scene().cell_size[d] / dx));
     wide_ = LatticePreconditioner<Dim, ExecSpace>(space_, sim_.communicator(), Px, fluid, nq, lattice, dx, 2);
     compact_ = LatticePreconditioner<Dim, ExecSpace>(space_, sim_.communicator(), Px, fluid, nq, lattice, dx, 1);
+    wide_.set_sharpening(kDgSharpening);
     Kokkos::parallel_for(
         label_start, Kokkos::RangePolicy<ExecSpace>(space_, 0, nq),
         KOKKOS_LAMBDA(int i) { x(i) = fluid(i) * math::cos(6.283185307179586 * Px(i, 0) / length); });
