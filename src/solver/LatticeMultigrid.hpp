@@ -247,6 +247,15 @@ class LatticeMultigrid {
     }
   }
 
+  // (L x)_i at point c of line l (n points along x, periodic), in double.
+  template <bool Unit, class X>
+  KOKKOS_INLINE_FUNCTION static double product_at(const Field& diag, const Couplings& up, const X& x, const Line& l,
+                                                  int c, int n) {
+    const long long i = l.first + c;
+    const long long left = c == 0 ? i + n - 1 : i - 1, right = c + 1 == n ? i - (n - 1) : i + 1;
+    return double(diag(i)) * x(i) - couplings<Unit>(up, x, l, i, left, right);
+  }
+
   template <bool Unit, class X, class Y>
   void apply_level_with(const Level& level, const X& x, const Y& y) const {
     using Value = typename Y::value_type;
@@ -261,9 +270,7 @@ class LatticeMultigrid {
           const int n = shape[0];
           for (int c = 0; c < n; ++c) {
             const long long i = l.first + c;
-            const long long left = c == 0 ? i + n - 1 : i - 1, right = c + 1 == n ? i - (n - 1) : i + 1;
-            const double sum = double(diag(i)) * x(i) - couplings<Unit>(up, x, l, i, left, right);
-            y(i) = diag(i) == 0 ? Value(0) : static_cast<Value>(sum);
+            y(i) = diag(i) == 0 ? Value(0) : static_cast<Value>(product_at<Unit>(diag, up, x, l, c, n));
           }
         });
     space_.fence();
@@ -411,8 +418,7 @@ class LatticeMultigrid {
               const Line& fl = fine_line[corner >> 1];
               const long long i = fl.first + c;
               if (diag(i) == 0 || (c + fl.parity) % 2 == settled) continue;
-              const long long left = c == 0 ? i + n - 1 : i - 1, right = c + 1 == n ? i - (n - 1) : i + 1;
-              sum += b(i) - (double(diag(i)) * x(i) - couplings<Unit>(up, x, fl, i, left, right));
+              sum += b(i) - product_at<Unit>(diag, up, x, fl, c, n);
             }
             cb(line * coarse_shape[0] + c0) = static_cast<Real>(sum);
           }

@@ -146,12 +146,16 @@ class LatticePreconditioner {
   // whole lattice (solver/LatticeSharpening.hpp); beta = 0: not.
   void set_sharpening(double beta) {
     sharpening_ = beta;
-    lattice_active_.clear();
+    lattice_active_.clear(), lattice_z_.clear(), lattice_scratch_.clear();
     if (beta == 0) return;
     long long points = 1;
     for (int d = 0; d < Dim; ++d) points *= lattice_[d];
     lattice_active_.assign(static_cast<size_t>(points), 0.0f);
     for (long long g : lattice_index_) lattice_active_[g] = 1.0f;
+    // Zero off the unknowns, and kept so: every apply writes the unknowns'
+    // points only, and every pass of the sharpening leaves the others 0.
+    lattice_z_.assign(static_cast<size_t>(points), 0.0f);
+    lattice_scratch_.assign(static_cast<size_t>(points), 0.0f);
   }
   // What this process holds for it, in doubles (for the memory report): per
   // gathered value the value, its sub-lattice, its point there and on the
@@ -208,7 +212,6 @@ class LatticePreconditioner {
     if (sharpening_ > 0) {
       // Every process sharpens the whole lattice, which it holds anyway,
       // and keeps its own points.
-      lattice_z_.assign(lattice_active_.size(), 0.0f);
       for (size_t g = 0; g < lattice_index_.size(); ++g)
         lattice_z_[lattice_index_[g]] = static_cast<float>(all_z_[slot_[sub_[g]] * points_ + local_[g]]);
       sharpen_lattice<Dim>(lattice_z_, lattice_scratch_, lattice_, lattice_active_, sharpening_);
