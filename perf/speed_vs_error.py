@@ -16,8 +16,8 @@ the convective term. Every run stops by itself when k is steady.
     perf/speed_vs_error.py --add-steady docs/figures/speed_vs_error.csv --problem3-reference K_M2
 
 --add-steady runs the steady solver (Solver/Method = steady, its defaults)
-on the square arrays at the three spacings and problem III at 0.02, 0.01
-and 0.005 L, and adds its rows to those of an earlier CSV (replacing
+on the square arrays at the three spacings and problem III at 0.02, 0.01,
+0.005 and 0.0025 L, and adds its rows to those of an earlier CSV (replacing
 earlier steady rows): the figure and the table then show both.
 
 Problem III at dx = 0.005 L and 0.0025 L takes minutes to hours; such runs
@@ -162,7 +162,7 @@ def add_steady(args):
     runs = [(f"square array c = 0.{fraction // 10}", f"square_array/square_array_c{fraction}.xml", dx, reference)
             for fraction, reference in SANGANI_ACRIVOS.items() for dx in [0.004, 0.002, 0.001]]
     runs += [("problem III", "problem3/problem3.xml", dx, args.problem3_reference / L**2)
-             for dx in [0.002, 0.001, 0.0005]]
+             for dx in [0.002, 0.001, 0.0005, 0.00025]]
     for scene, path, dx, reference in runs:
         out = os.path.join(args.out, f"{os.path.basename(path)[:-4]}-dx{dx}-steady")
         s = run_poresph(args.build, path, out, [f"Discretization/Particle Spacing={dx!r}", "Solver/Method=steady"])
