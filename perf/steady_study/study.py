@@ -11,6 +11,8 @@ a relative residual of --tol and k against the direct solution.
 
 Methods:
   direct           bordered and unbordered sparse LU; k, mean density change, LU fill
+  direct-regions   sparse LU with a border per region of the fluid (lattice neighbours, corners
+                   counted, as solver/FluidRegions.hpp): k where pockets keep their own mass
   lsc              FGMRES, block-triangular, exact A^-1, Schur by LSC with exact (DG)^-1
   simple           as lsc, Schur by D diag(A)^-1 G, exact
   scaled-identity  as lsc, Schur by s I (s: the Schur complement on a smooth mode)
@@ -44,6 +46,7 @@ part's size whatever its preconditioner.
 Needs NumPy and SciPy (python3-numpy, python3-scipy).
 """
 import argparse
+import itertools
 import os
 import subprocess
 import tempfile
@@ -228,6 +231,44 @@ def method_direct(system, args):
           f"mean density change {unbordered[system.density].mean() / rho0:+.1e} rho0")
     print(f"  LU of the bordered system: {seconds:.1f} s, fill {fill:.3e} ({fill / system.Jb.shape[0]:.0f} a row; "
           f"the matrix has {system.Jb.nnz / system.Jb.shape[0]:.0f})")
+
+
+def fluid_regions(system):
+    """Each fluid particle's region: the fluid joined by chains of lattice
+    neighbours, one step along each axis, corners counted, across the
+    periodic cell (the solver's regions, solver/FluidRegions.hpp)."""
+    index = system.point_index()
+    parent = np.arange(system.n)
+
+    def root(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    for offset in itertools.product((-1, 0, 1), repeat=system.dim):
+        if not any(offset):
+            continue
+        neighbour = index[tuple(((system.lattice + np.array(offset)) % system.shape).T)]
+        for i in np.flatnonzero(neighbour >= 0):
+            a, b = root(i), root(neighbour[i])
+            if a != b:
+                parent[a] = b
+    return np.unique([root(i) for i in range(system.n)], return_inverse=True)[1]
+
+
+def method_direct_regions(system, args):
+    regions = fluid_regions(system)
+    count = regions.max() + 1
+    border = sp.lil_matrix((system.J.shape[0], count))
+    for r in range(count):
+        members = system.density[regions == r]
+        border[members, r] = 1.0 / np.sqrt(len(members))
+    border = border.tocsr()
+    bordered = sp.bmat([[system.J, border], [border.T, None]]).tocsc()
+    x = spla.spsolve(bordered, np.concatenate([-system.R0, np.zeros(count)]))
+    print(f"  {count} regions of {', '.join(str(c) for c in np.bincount(regions))} fluid particles: "
+          f"k {permeability(system.info, x[:system.J.shape[0]]):.6e}")
 
 
 def krylov_with_schur(system, args, schur_solve, label):
@@ -849,6 +890,7 @@ def method_newton(system, args):
 
 METHODS = {
     "direct": method_direct,
+    "direct-regions": method_direct_regions,
     "lsc": method_lsc,
     "simple": method_simple,
     "scaled-identity": method_scaled_identity,

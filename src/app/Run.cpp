@@ -106,7 +106,7 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
             : 0.0;
     summarised = report;
     summarise_stages(records, Dim, stages.front().levels, scene.steady_tolerance > 0, summarised, reynolds_scale,
-                     scene.solver.max_inner_iterations, scene.solver.raised_inner_iterations);
+                     scene.solver.max_inner_iterations, scene.solver.raised_inner_iterations, scene.solver.tolerance);
     if (Communicator().rank() == 0) {
       write_summary_file(options.output_dir + "/summary.json", summarised.to_json().str() + "\n");
       if (summarised.drainage.placed)

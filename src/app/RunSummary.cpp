@@ -37,16 +37,26 @@ bool tensor_records(const std::vector<StageRecord>& records) {
 // or more a linear iteration, the DG solves were near their cap. On the
 // narrow passages of an image their result is then too rough for the outer
 // solve to use (docs/steady_solver.md, "What fails on a blobs image"), and
-// a higher cap is what helped there. 0: the cap is not known.
+// a higher cap is what helped there. 0: the cap is not known. A solve
+// whose residual met Solver/Tolerance (tolerance; 0: not known) stopped
+// because k had not settled: its last Newton step moved k by
+// r.relative_change, more than Solver/Permeability Tolerance.
 std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, int max_inner_iterations,
-                                int raised_inner_iterations) {
-  char text[800];
+                                int raised_inner_iterations, double tolerance) {
+  char text[1200];
   int n = std::snprintf(text, sizeof text,
                         "the steady solve of %s did not converge: relative residual %.3g after %lld Newton and %lld "
                         "linear iterations; k is that of its last state, which the checkpoint keeps (raise Solver/Max "
                         "Linear Iterations or Solver/Max Nonlinear Iterations, and continue with --restart)",
                         stage_name(r, levels, tensor).c_str(), r.solver_residual, r.nonlinear_iterations,
                         r.linear_iterations);
+  if (tolerance > 0 && r.solver_residual <= tolerance && n > 0 && n < static_cast<int>(sizeof text))
+    n += std::snprintf(text + n, sizeof text - n,
+                       "; the residual is below Solver/Tolerance, but the last Newton step still moved k by %.2g %%, "
+                       "more than Solver/Permeability Tolerance: where the pore space narrows to a particle or two, "
+                       "pressure modes that the SPH gradient hardly sees carry k and hardly show in the residual "
+                       "(docs/steady_solver.md, \"k settled\")",
+                       100 * r.relative_change);
   const double inner_per_linear =
       r.linear_iterations > 0 ? static_cast<double>(r.inner_iterations) / static_cast<double>(r.linear_iterations) : 0;
   if (max_inner_iterations > 0 && inner_per_linear >= 1.5 * max_inner_iterations && n > 0 &&
@@ -85,7 +95,7 @@ std::string unsteady_warning(const StageRecord& r, int levels, bool tensor) {
 // sought a steady k and did not reach it).
 void summarise_stages(const std::vector<StageRecord>& records, int dim, int levels, bool steady_sought,
                       RunReport& report, double reynolds_scale, int max_inner_iterations,
-                      int raised_inner_iterations) {
+                      int raised_inner_iterations, double solver_tolerance) {
   report.steps = 0, report.simulated_time = 0, report.neighbour_rebuilds = 0;
   for (const auto& r : records) {
     report.steps += r.steps;
@@ -108,7 +118,7 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     solver.bytes_per_particle = std::max(solver.bytes_per_particle, r.solver_bytes_per_particle);
     if (!r.solver_converged)
       report.warnings.push_back(unconverged_warning(r, levels, tensor_records(records), max_inner_iterations,
-                                                     raised_inner_iterations));
+                                                     raised_inner_iterations, solver_tolerance));
   }
   bool any = false, steady = true;
   const bool tensor = tensor_records(records);

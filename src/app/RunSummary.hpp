@@ -18,12 +18,14 @@ namespace poresph {
 // grain diameter / (porosity nu); 0 where the solid gives no length);
 // max_inner_iterations, Solver/Max Inner Iterations (0: not known), which an
 // unconverged steady solve's warning names when its inner solves came near it,
-// with raised_inner_iterations, Solver/Raised Inner Iterations. What
+// with raised_inner_iterations, Solver/Raised Inner Iterations, and
+// solver_tolerance, Solver/Tolerance (0: not known), below which it says
+// that k had not settled. What
 // the whole run counts (steps, time, list builds) is summed from the
 // records alone, so that a run continued from a checkpoint, which carries
 // the records of the stages before it, reports what a run in one go does.
 void summarise_stages(const std::vector<StageRecord>& records, int dim, int levels, bool steady_sought,
                       RunReport& report, double reynolds_scale = 0, int max_inner_iterations = 0,
-                      int raised_inner_iterations = 0);
+                      int raised_inner_iterations = 0, double solver_tolerance = 0);
 
 }  // namespace poresph

@@ -392,7 +392,10 @@ class StageLoop {
       const auto u = sim.superficial_velocity();
       for (int i = 0; i < Dim; ++i) r.k[i] = scene_.kinematic_viscosity * u[i] / force, r.u[i] = u[i];
       r.steady = steady_report_->converged;
-      r.relative_change = r.remaining_change = 0;
+      // k's change over the last Newton step, as the march's over its last span.
+      const double change = steady_report_->last_step_change;
+      r.relative_change = std::isnan(change) ? 0.0 : change;
+      r.remaining_change = 0;
     } else if (observed.has_permeability) {
       r.has_permeability = true;
       for (int i = 0; i < Dim; ++i) r.k[i] = observed.k[i], r.u[i] = observed.u[i];

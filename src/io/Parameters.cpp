@@ -458,6 +458,12 @@ RCP<ParameterList> make_valid_parameters() {
           "is below this fraction of its size at rest (v = 0, rho = rho0). k then differs from a solve to "
           "1e-6 by far less than from the march's (docs/steady_solver.md, \"The default tolerance\").",
           real_in(1e-14, 0.5));
+    s.set("Permeability Tolerance", 1e-3,
+          "'steady': converged only when, besides the residual, the last Newton step moved the superficial "
+          "velocity (so k) by less than this fraction of itself. On an image whose passages are one particle "
+          "wide, a residual below Tolerance can leave k a quarter off: the pressure modes the SPH gradient "
+          "hardly sees carry k and hardly show in the residual (docs/steady_solver.md, 'k settled').",
+          real_in(1e-14, 0.5));
     s.set("Linear Tolerance", 1e-8,
           "'steady': the least relative residual a Newton step's linear solve is asked for (each step asks for "
           "what takes the residual to a tenth of Tolerance, were the equations linear).",

@@ -707,6 +707,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   const auto& solver = list.sublist("Solver");
   scene.steady_solver = solver.get<std::string>("Method") == "steady";
   scene.solver.tolerance = solver.get<double>("Tolerance");
+  scene.solver.permeability_tolerance = solver.get<double>("Permeability Tolerance");
   scene.solver.linear_tolerance = solver.get<double>("Linear Tolerance");
   scene.solver.max_nonlinear_iterations = solver.get<int>("Max Nonlinear Iterations");
   scene.solver.max_linear_iterations = solver.get<int>("Max Linear Iterations");

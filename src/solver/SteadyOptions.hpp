@@ -6,6 +6,9 @@ namespace poresph {
 
 struct SteadyOptions {
   double tolerance = 1e-4;         // Solver/Tolerance: on ||F - e (e . F)|| / ||F at rest||
+  // Solver/Permeability Tolerance: the last Newton step must also have moved
+  // the superficial velocity (so k) by less than this fraction of itself.
+  double permeability_tolerance = 1e-3;
   double linear_tolerance = 1e-8;  // Solver/Linear Tolerance: the least a Newton step's solve is asked for
   int max_nonlinear_iterations = 10;
   int max_linear_iterations = 1000;  // per Newton step

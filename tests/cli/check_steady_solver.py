@@ -11,6 +11,9 @@
   and a checkpoint from which --restart then converges to the same k; its
   warning names Solver/Max Inner Iterations only when the inner solves
   were near it (held to 1 iteration);
+- a residual below Solver/Tolerance is not enough: k must have settled
+  (its last Newton step's change, steady_relative_change, below Solver/
+  Permeability Tolerance), else exit status 4 and a warning that says so;
 - a linear solve that stalls with its inner solves at their cap raises
   the cap (Solver/Raised Inner Iterations), and converges in far fewer
   linear iterations than with the cap held;
@@ -78,6 +81,8 @@ for convection in ("true", "false"):
     check(abs(change) < 1e-3 and marched["steady"],
           f"convection {convection}: k solved {kxx(solved):.8e}, marched {kxx(marched):.8e} ({change:+.1e})")
     check(marched["solver"] == {"method": "explicit"}, "the march says it marched")
+    check(0 < solved["steady_relative_change"] < 1e-3,
+          f"convection {convection}: the last Newton step moved k by {solved['steady_relative_change']:.1e}")
 
 # Ranks agree to the tolerance.
 _, one, _ = run("steady-ranks-1", ["Solver/Method=steady", TIGHT])
@@ -106,6 +111,15 @@ done, inner, _ = run("steady-inner-capped", ["Solver/Method=steady", TIGHT, "Sol
 named = "Solver/Max Inner Iterations = 1 (raised when the solve stalls"
 check(done.returncode == 4 and any(named in w for w in inner["warnings"]),
       "inner solves held to 1 iteration: exit status 4, the warning names Solver/Max Inner Iterations")
+# k must have settled too: held to a change of 1e-12 a Newton step, three
+# steps end with a residual far below the tolerance and k still moving.
+done, unsettled, _ = run("steady-unsettled", ["Solver/Method=steady", "Solver/Permeability Tolerance=1e-12",
+                                              "Solver/Max Nonlinear Iterations=3"])
+check(done.returncode == 4 and unsettled["solver"]["converged"] is False and unsettled["steady"] is False
+      and unsettled["solver"]["residual"] <= DEFAULT_TOLERANCE and unsettled["steady_relative_change"] > 1e-12
+      and any("Solver/Permeability Tolerance" in w for w in unsettled["warnings"]),
+      f"k not settled: exit status {done.returncode}, residual {unsettled['solver']['residual']:.1e}, the last "
+      f"step moved k by {unsettled['steady_relative_change']:.1e}, the warning names Solver/Permeability Tolerance")
 # A linear solve that stalls with its DG solves at the cap raises the cap
 # (x4 at a time, at most to Solver/Raised Inner Iterations): with the cap
 # fixed at 1 a linear iteration takes at most 3 inner ones (two DG solves,
