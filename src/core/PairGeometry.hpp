@@ -43,9 +43,13 @@ class LatticeStencil {
   // and still count as one. Lattice coordinates are (i + 1/2) dx, correct to
   // a few units in the last place of the coordinate, so the separations of a
   // lattice with up to 10^4 points across are offsets to about 1e-12
-  // spacings; particles moved off the lattice on purpose are further than
-  // 1e-6 (docs/method.md).
-  static constexpr double kTolerance = 1e-9;
+  // spacings. Across the periodic seam they are off by what the cell side
+  // misses a whole number of spacings by: a spacing given to ten digits
+  // (0.1 / 120 as 0.0008333333333) leaves 4.8e-9 spacings at 120 points
+  // across, which 1e-9 refused, so that such a cell lost its lattice rows
+  // and its steady solve took ten times as long (docs/method.md). Particles
+  // moved off the lattice on purpose are further than 1e-6.
+  static constexpr double kTolerance = 1e-7;
 
   LatticeStencil() = default;
 
