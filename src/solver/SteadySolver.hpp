@@ -190,9 +190,8 @@ class SteadySolver {
       const bool settling = residual <= options_.tolerance;
       bool cannot_settle = false;
       krylov.after_iteration = [&](int iterations, double linear_residual) {
-        cannot_settle = cannot_settle ||
-                        (settling && iterations - watch.iteration >= options_.restart &&
-                         linear_residual > 0.5 * watch.residual && inner_cap_ >= options_.raised_inner_iterations);
+        cannot_settle = cannot_settle || (settling && cycle_without_halving(watch, iterations, linear_residual) &&
+                                          inner_cap_ >= options_.raised_inner_iterations);
         watch_inner_cap(watch, iterations, linear_residual);
         status.linear_iterations = report.linear_iterations + iterations;
         status.linear_residual = linear_residual;
@@ -277,13 +276,15 @@ class SteadySolver {
   };
   // |after - before| / |after|: 0 where both are 0 (no flow), infinite where only after is.
   static double relative_change(const Vec<Dim>& before, const Vec<Dim>& after) {
-    double change = 0, size = 0;
-    for (int d = 0; d < Dim; ++d) {
-      change += (after[d] - before[d]) * (after[d] - before[d]);
-      size += after[d] * after[d];
-    }
+    const Vec<Dim> moved = after - before;
+    const double change = dot(moved, moved), size = dot(after, after);
     if (size == 0) return change == 0 ? 0.0 : std::numeric_limits<double>::infinity();
     return std::sqrt(change / size);
+  }
+  // Whether a whole restart cycle of outer iterations has passed since the
+  // watch was last set without halving the linear residual.
+  bool cycle_without_halving(const CapWatch& watch, int iteration, double residual) const {
+    return iteration - watch.iteration >= options_.restart && residual > 0.5 * watch.residual;
   }
 
   // The inner cap, raised x4 (at most to Solver/Raised Inner Iterations)
@@ -297,7 +298,7 @@ class SteadySolver {
   void watch_inner_cap(CapWatch& watch, int iteration, double residual) {
     if (iteration - watch.iteration < options_.restart) return;
     const long long solves = dg_solves_ - watch.dg_solves, capped = capped_dg_solves_ - watch.capped_dg_solves;
-    if (residual > 0.5 * watch.residual && solves > 0 && 2 * capped >= solves &&
+    if (cycle_without_halving(watch, iteration, residual) && solves > 0 && 2 * capped >= solves &&
         inner_cap_ < options_.raised_inner_iterations)
       inner_cap_ = static_cast<int>(std::min<long long>(options_.raised_inner_iterations, 4LL * inner_cap_));
     watch = {iteration, residual, dg_solves_, capped_dg_solves_};
