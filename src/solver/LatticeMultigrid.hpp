@@ -80,8 +80,13 @@ class LatticeMultigrid {
   // the cycle to the correction of the second level, coarse_correction()
   // (empty with one level) may then be changed, cycle_up(x) finishes.
   void cycle_down(const View& b) const {
-    Kokkos::deep_copy(space_, levels_[0].x, Real(0));
     convert(b, levels_[0].b);
+    cycle_down();
+  }
+  // The same from finest_b() as the caller left it: a caller that gathers
+  // its right-hand side onto the lattice writes it there in place, once.
+  void cycle_down() const {
+    Kokkos::deep_copy(space_, levels_[0].x, Real(0));
     if (levels_.size() == 1) {
       cycle_from(0);
       return;
@@ -91,9 +96,17 @@ class LatticeMultigrid {
   }
   Field coarse_correction() const { return levels_.size() > 1 ? levels_[1].x : Field(); }
   void cycle_up(const View& x) const {
-    if (levels_.size() > 1) ascend(0, 1.0);
+    cycle_up();
     convert(levels_[0].x, x);
   }
+  // The same, the result left in finest_x().
+  void cycle_up() const {
+    if (levels_.size() > 1) ascend(0, 1.0);
+  }
+  // The finest level's right-hand side and result, over all its points;
+  // off the unknowns b must stay 0, and the cycle leaves x 0 there.
+  Field finest_b() const { return levels_[0].b; }
+  Field finest_x() const { return levels_[0].x; }
 
   // y = L x on the finest lattice.
   void apply(const View& x, const View& y) const {

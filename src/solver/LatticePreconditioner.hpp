@@ -102,8 +102,6 @@ class LatticePreconditioner {
     for (int l = 0; l < lattices; ++l) {
       mine_.push_back(is_mine(l));
       multigrid_.emplace_back(space, shape, active[l]);
-      b_.push_back(View("lattice_b", points));
-      z_.push_back(View("lattice_z", points));
     }
     // The sub-lattices in gathered order: by owner, then by index.
     const int processes = comm_.size();
@@ -159,39 +157,47 @@ class LatticePreconditioner {
   }
   // What this process holds for it, in doubles (for the memory report): per
   // gathered value the value, its sub-lattice, its point there and on the
-  // whole lattice; per lattice point b, z and the gathered z, and the
-  // multigrid's diagonal, couplings, x, b and r on every level (a 2^-Dim
-  // geometric series); with the sharpening, its mask and two fields (floats)
-  // over the whole lattice.
+  // whole lattice; per lattice point the gathered z (with more than one
+  // process) and the multigrid's diagonal, its inverse, couplings, x and b
+  // on every level (a 2^-Dim geometric series); with the sharpening, its
+  // mask and two fields (floats) over the whole lattice.
   double values_held() const {
     double values = 3.5 * static_cast<double>(gathered_.size()) + static_cast<double>(own_.size());
     values += 1.5 * static_cast<double>(lattice_active_.size());
     const double levels = (1 << Dim) / ((1 << Dim) - 1.0);
     const double level_value = sizeof(typename Multigrid::Field::value_type) / double(sizeof(double));
-    for (const auto& b : b_)
-      values += (3.0 + (4.0 + Dim) * levels * level_value) * static_cast<double>(b.extent(0));
+    const double gathered_z = comm_.size() > 1 ? 1.0 : 0.0;
+    for (const auto& multigrid : multigrid_)
+      values += (gathered_z + (4.0 + Dim) * levels * level_value) * static_cast<double>(multigrid.size());
     return values;
   }
 
   // z = (one V-cycle of the lattice Laplacian per sub-lattice) r, on the fluid entries.
   void apply(const View& r, const View& z) const {
     auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), r);
-    std::vector<double>& mine = own_values_;
-    mine.resize(own_.size());
-    for (size_t k = 0; k < own_.size(); ++k) mine[k] = hr(own_[k]);
-    comm_.all_gather(mine.data(), counts_, gathered_.data());
-    // Every gathered value lands on its own point, the same points at every
-    // apply: the other points of b keep the zero they were made with.
-    const int lattices = static_cast<int>(b_.size());
-    std::vector<decltype(Kokkos::create_mirror_view(b_[0]))> hb(lattices);
+    const int lattices = static_cast<int>(multigrid_.size());
+    const bool alone = comm_.size() == 1;
+    // Every value lands on its own point of its sub-lattice's finest
+    // right-hand side, the same points at every apply: the other points
+    // keep the zero they were made with. Alone, straight from r.
+    std::vector<decltype(Kokkos::create_mirror_view(multigrid_[0].finest_b()))> hb(lattices);
+    std::vector<float*> b(lattices, nullptr);
     for (int l = 0; l < lattices; ++l)
-      if (is_mine(l)) hb[l] = Kokkos::create_mirror_view(b_[l]);
-    for (size_t k = 0; k < gathered_.size(); ++k)
-      if (mine_[sub_[k]]) hb[sub_[k]](local_[k]) = gathered_[k];
+      if (is_mine(l)) hb[l] = Kokkos::create_mirror_view(multigrid_[l].finest_b()), b[l] = hb[l].data();
+    if (alone) {
+      for (size_t k = 0; k < own_.size(); ++k) b[sub_[k]][local_[k]] = static_cast<float>(hr(own_[k]));
+    } else {
+      std::vector<double>& mine = own_values_;
+      mine.resize(own_.size());
+      for (size_t k = 0; k < own_.size(); ++k) mine[k] = hr(own_[k]);
+      comm_.all_gather(mine.data(), counts_, gathered_.data());
+      for (size_t k = 0; k < gathered_.size(); ++k)
+        if (mine_[sub_[k]]) b[sub_[k]][local_[k]] = static_cast<float>(gathered_[k]);
+    }
     for (int l = 0; l < lattices; ++l)
       if (is_mine(l)) {
-        Kokkos::deep_copy(b_[l], hb[l]);
-        multigrid_[l].cycle_down(b_[l]);
+        Kokkos::deep_copy(multigrid_[l].finest_b(), hb[l]);
+        multigrid_[l].cycle_down();
       }
     if (!pattern_weights_.empty() && coarse_points_ > 0) {
       // Every sub-lattice's coarse correction, weighed where it is a block's
@@ -205,22 +211,32 @@ class LatticePreconditioner {
         if (is_mine(l)) copy_values(coarse[l], multigrid_[l].coarse_correction());
     }
     for (int l = 0; l < lattices; ++l)
-      if (is_mine(l)) multigrid_[l].cycle_up(z_[l]);
-    gather_own(z_counts_, points_, [&](int l) { return z_[l]; }, own_z_, all_z_);
+      if (is_mine(l)) multigrid_[l].cycle_up();
+    // The result of gathered value g: alone, on its sub-lattice's finest x;
+    // else from every process's sub-lattices gathered.
+    std::vector<decltype(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), multigrid_[0].finest_x()))> hx(
+        lattices);
+    std::vector<const float*> x(lattices, nullptr);
+    if (alone) {
+      for (int l = 0; l < lattices; ++l)
+        hx[l] = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), multigrid_[l].finest_x()), x[l] = hx[l].data();
+    } else {
+      gather_own(z_counts_, points_, [&](int l) { return multigrid_[l].finest_x(); }, own_z_, all_z_);
+    }
+    auto result = [&](long long g) -> double {
+      return alone ? static_cast<double>(x[sub_[g]][local_[g]]) : all_z_[slot_[sub_[g]] * points_ + local_[g]];
+    };
     auto out = Kokkos::create_mirror_view(z);
     Kokkos::deep_copy(out, 0.0);
     if (sharpening_ > 0) {
       // Every process sharpens the whole lattice, which it holds anyway,
       // and keeps its own points.
       for (size_t g = 0; g < lattice_index_.size(); ++g)
-        lattice_z_[lattice_index_[g]] = static_cast<float>(all_z_[slot_[sub_[g]] * points_ + local_[g]]);
+        lattice_z_[lattice_index_[g]] = static_cast<float>(result(static_cast<long long>(g)));
       sharpen_lattice<Dim>(lattice_z_, lattice_scratch_, lattice_, lattice_active_, sharpening_);
       for (size_t k = 0; k < own_.size(); ++k) out(own_[k]) = lattice_z_[lattice_index_[offset_ + k]];
     } else {
-      for (size_t k = 0; k < own_.size(); ++k) {
-        const long long g = offset_ + static_cast<long long>(k);
-        out(own_[k]) = all_z_[slot_[sub_[g]] * points_ + local_[g]];
-      }
+      for (size_t k = 0; k < own_.size(); ++k) out(own_[k]) = result(offset_ + static_cast<long long>(k));
     }
     Kokkos::deep_copy(z, out);
   }
@@ -246,7 +262,7 @@ class LatticePreconditioner {
   template <class ValuesOf>
   void gather_own(const std::vector<int>& counts, long long length, ValuesOf values, std::vector<double>& own,
                   std::vector<double>& all) const {
-    const int lattices = static_cast<int>(b_.size());
+    const int lattices = static_cast<int>(multigrid_.size());
     const bool alone = comm_.size() == 1;
     own.resize(alone ? 0 : static_cast<size_t>(counts[comm_.rank()]));
     all.resize(static_cast<size_t>(lattices * length));
@@ -294,7 +310,6 @@ class LatticePreconditioner {
   std::vector<long long> local_;   // and its point there
   std::vector<char> mine_;         // per sub-lattice: is_mine(), looked up per value without a division
   std::vector<Multigrid> multigrid_;
-  std::vector<View> b_, z_;
   std::vector<long long> slot_;                // per sub-lattice: its place in the gathered order
   std::vector<int> z_counts_, coarse_counts_;  // per process: the values of its sub-lattices it gives
   long long points_ = 0, coarse_points_ = 0;   // a sub-lattice's points, and its second level's
