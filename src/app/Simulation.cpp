@@ -141,19 +141,6 @@ bool same_boxes(const Decomposition<Dim>& a, const Decomposition<Dim>& b) {
   return true;
 }
 
-// Rows set to 0 by a flat loop: Kokkos 3.4's deep_copy of a value into a
-// rank-2 view goes through an MDRangePolicy, which on the Serial backend
-// took 8 % of a 2D steady solve (perf record, problem III at 0.0025 L).
-template <class ExecSpace, class Rows>
-void zero_rows(const ExecSpace& space, const Rows& rows) {
-  static const std::string label = "poresph::Simulation::zero_rows";
-  const int columns = static_cast<int>(rows.extent(1));
-  Kokkos::parallel_for(
-      label, Kokkos::RangePolicy<ExecSpace>(space, 0, rows.extent(0)), KOKKOS_LAMBDA(std::size_t i) {
-        for (int d = 0; d < columns; ++d) rows(i, d) = 0.0;
-      });
-  space.fence();
-}
 }  // namespace
 
 template <int Dim>
@@ -800,7 +787,6 @@ void Simulation<Dim, ExecSpace>::pressure_product(const Scalars& dp, const Rows&
       label_terms, Kokkos::RangePolicy<ExecSpace>(space_, 0, slots), KOKKOS_LAMBDA(int j) { values(j) *= slope(j); });
   space_.fence();
   if (extrapolate_walls_) neighbourhood_.update_ghost_values(values, owned);
-  zero_rows(space_, dvdt);
   lattice_products_.gradient(values, particles_.m, dvdt);
 }
 
@@ -825,14 +811,12 @@ typename Simulation<Dim, ExecSpace>::Rows Simulation<Dim, ExecSpace>::fluid_rows
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::continuity_product(const Rows& dv, const Scalars& drhodt) {
   const Rows values = fluid_rows_in_slots(dv);
-  Kokkos::deep_copy(space_, drhodt, 0.0);
   lattice_products_.divergence(values, particles_.m, drhodt);
 }
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::velocity_product(const Rows& dv, const Rows& dvdt) {
   const Rows values = fluid_rows_in_slots(dv);
-  zero_rows(space_, dvdt);
   const double coefficient = 2.0 * fluid_.kinematic_viscosity * pair_options_.uniform_inverse_density;
   lattice_products_.viscous(values, fluid_mass_, coefficient, dvdt);
 }

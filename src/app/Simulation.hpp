@@ -126,7 +126,8 @@ class Simulation {
   // dp of the fluid's pressures (p = c^2 rho; owned slots), the wall
   // pressure following them; continuity_product: the change of their
   // d rho/dt for changes dv of the fluid's velocities. Other particles'
-  // rows are zero. Both leave the particles as they are. velocity_product:
+  // rows are not written (the steady system's own pass over the rows sets
+  // them). Both leave the particles as they are. velocity_product:
   // the change of their dv/dt from the velocity block's terms
   // (RateTerms::Velocity) for changes dv of the fluid's velocities, the
   // wall drag's share -kappa dv left out (the wall_drag at the state; the

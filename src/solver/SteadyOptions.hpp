@@ -32,7 +32,7 @@ struct SteadyOptions {
 // estimate before a run (app/SceneCheck.cpp) with their whole restart.
 inline double steady_vector_values(double outer_basis, double inner_basis, double nv, double nq, double borders = 1) {
   const double bordered = nv + nq + borders;
-  return (outer_basis + 3) * bordered + (inner_basis + 1) * nv + 9 * (nv + nq) + 3 * nv + 8 * nq;
+  return (outer_basis + 3) * bordered + (inner_basis + 1) * nv + 9 * (nv + nq) + 3 * nv + 7 * nq;
 }
 
 }  // namespace poresph

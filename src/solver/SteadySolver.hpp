@@ -444,7 +444,7 @@ class SteadySolver {
     space_.fence();
     lsc_scaling_ = wall_weighted_scaling(system);
     work_v_ = View("steady_work_v", nv), work_v2_ = View("steady_work_v2", nv), work_v3_ = View("steady_work_v3", nv);
-    work_q_ = View("steady_work_q", nq), work_q2_ = View("steady_work_q2", nq), work_q3_ = View("steady_work_q3", nq);
+    work_q_ = View("steady_work_q", nq), work_q2_ = View("steady_work_q2", nq);
     work_q_component_in_ = View("steady_component_in", nq), work_q_component_out_ = View("steady_component_out", nq);
     // One set of inner bases for the density and velocity blocks' solves,
     // which never run at once: the velocity block's length.
@@ -494,7 +494,7 @@ class SteadySolver {
       // The velocity block on the smooth mode in x (component 0).
       View sv("steady_smooth_v", nv);
       to_component(x, sv, 0);
-      system.apply(&sv, nullptr, work_v_, work_q3_, kForward, kVelocity);
+      system.apply(&sv, nullptr, work_v_, View(), kForward, kVelocity);
       from_component(work_v_, y, 0);
       compact_.apply(y, work_q_);
       compact_scale_ = ops.dot(x, work_q_) / smooth;
@@ -641,17 +641,17 @@ class SteadySolver {
 
   // out = D Q^-1 G q
   void apply_dg(System& system, const View& q, const View& out) {
-    system.apply(nullptr, &q, work_v_, work_q3_, kForward, kGradient);
+    system.apply(nullptr, &q, work_v_, View(), kForward, kGradient);
     multiply(lsc_scaling_, work_v_);
-    system.apply(&work_v_, nullptr, work_v2_, out, kForward, kDivergence);
+    system.apply(&work_v_, nullptr, View(), out, kForward, kDivergence);
   }
   // out = D Q^-1 A Q^-1 G q
   void apply_dag(System& system, const View& q, const View& out) {
-    system.apply(nullptr, &q, work_v_, work_q3_, kForward, kGradient);
+    system.apply(nullptr, &q, work_v_, View(), kForward, kGradient);
     multiply(lsc_scaling_, work_v_);
-    system.apply(&work_v_, nullptr, work_v2_, work_q3_, kForward, kVelocity);
+    system.apply(&work_v_, nullptr, work_v2_, View(), kForward, kVelocity);
     multiply(lsc_scaling_, work_v2_);
-    system.apply(&work_v2_, nullptr, work_v_, out, kForward, kDivergence);
+    system.apply(&work_v2_, nullptr, View(), out, kForward, kDivergence);
   }
   void multiply(const View& factor, const View& x) const {
     static const std::string label = "poresph::steady::multiply";
@@ -715,7 +715,7 @@ class SteadySolver {
     const KrylovOptions krylov = inner_krylov();
     ops.fill(v, 0.0);
     const auto result = fgmres(
-        ops, [&](const View& in, const View& out) { system.apply(&in, nullptr, out, work_q3_, kForward, kVelocity); },
+        ops, [&](const View& in, const View& out) { system.apply(&in, nullptr, out, View(), kForward, kVelocity); },
         [&](const View& in, const View& out) { precondition_velocity(in, out); }, r, v, krylov, inner_workspace_);
     inner_iterations_ += result.iterations;
     inner_basis_ = std::max(inner_basis_, result.basis_vectors);
@@ -739,7 +739,7 @@ class SteadySolver {
     // Each region's mean density change is its border row's.
     add_border(read_border(in), out_q);
     // v = A^-1 (r_v - G p)
-    system.apply(nullptr, &out_q, work_v2_, work_q3_, kForward, kGradient);
+    system.apply(nullptr, &out_q, work_v2_, View(), kForward, kGradient);
     ops.copy(in_v, work_v3_);
     ops.update(-1.0, work_v2_, 1.0, work_v3_);
     solve_velocity(system, work_v3_, out_v);
@@ -765,7 +765,7 @@ class SteadySolver {
   int outer_basis_ = 0, inner_basis_ = 0;  // the most vectors a solve's bases held
   KrylovWorkspace<ExecSpace> outer_workspace_, inner_workspace_;  // bases kept from solve to solve
   long long wall_rows_ = 0;  // velocity rows a wall's drag reaches, all processes
-  View diagonal_inverse_, lsc_scaling_, work_v_, work_v2_, work_v3_, work_q_, work_q2_, work_q3_, work_q_component_in_,
+  View diagonal_inverse_, lsc_scaling_, work_v_, work_v2_, work_v3_, work_q_, work_q2_, work_q_component_in_,
       work_q_component_out_, work_residual_q_;
 };
 

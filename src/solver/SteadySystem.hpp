@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <utility>
 
 #include "app/Simulation.hpp"
@@ -113,17 +114,24 @@ class SteadySystem {
   // difference of a pair loop with those terms only (Simulation::
   // compute_rates(RateTerms)); G, D and, with one fluid, the Stokes part
   // (and A without convection) the exact linear products where there are
-  // (linear_products()).
+  // (linear_products()). With one term, an output of extent 0 is not
+  // wanted: the linear products leave it out (the zero density rows of G
+  // and velocity rows of D, which the DG products never read), the
+  // differences take a scratch vector for it.
   enum class Accuracy { Central, Forward };
-  void apply(const View* wv, const View* wq, const View& out_v, const View& out_q,
+  void apply(const View* wv, const View* wq, const View& wanted_v, const View& wanted_q,
              Accuracy accuracy = Accuracy::Central, RateTerms terms = RateTerms::All) {
     const bool velocity_terms = terms == RateTerms::Velocity || terms == RateTerms::Viscous;
     if (linear_products() && (terms == RateTerms::Pressure || terms == RateTerms::Continuity ||
                               (velocity_terms && sim_.linear_velocity_products(terms)))) {
-      apply_linear(wv, wq, out_v, out_q, terms);
+      apply_linear(wv, wq, wanted_v, wanted_q, terms);
       ++partial_evaluations_;
       return;
     }
+    if (terms == RateTerms::All && (wanted_v.extent(0) == 0 || wanted_q.extent(0) == 0))
+      throw std::logic_error("SteadySystem::apply: every output is wanted with all the terms");
+    const View out_v = wanted_v.extent(0) > 0 ? wanted_v : scratch_v_;
+    const View out_q = wanted_q.extent(0) > 0 ? wanted_q : scratch_q_;
     const double size = std::sqrt((wv ? ops_.dot(*wv, *wv) : 0.0) + (wq ? ops_.dot(*wq, *wq) : 0.0));
     if (!(size > 0)) {
       ops_.fill(out_v, 0.0);
@@ -262,10 +270,10 @@ class SteadySystem {
       Kokkos::parallel_for(
           label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
             const double weight = velocity_row_weight(fluid(i), drag ? P.wall_drag(i) : 0.0, dt);
-            for (int d = 0; d < Dim; ++d) out_v(i * Dim + d) *= weight;
+            for (int d = 0; d < Dim; ++d) out_v(i * Dim + d) = fluid(i) != 0 ? out_v(i * Dim + d) * weight : 0.0;
           });
       space_.fence();
-      ops_.fill(out_q, 0.0);
+      if (out_q.extent(0) > 0) ops_.fill(out_q, 0.0);
       return;
     }
     if (terms == RateTerms::Velocity || terms == RateTerms::Viscous) {
@@ -277,7 +285,8 @@ class SteadySystem {
             label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_), KOKKOS_LAMBDA(int i) {
               const double kappa = drag ? P.wall_drag(i) : 0.0;
               const double weight = velocity_row_weight(fluid(i), kappa, dt);
-              for (int d = 0; d < Dim; ++d) out_v(i * Dim + d) = weight * (out_v(i * Dim + d) - kappa * w(i * Dim + d));
+              for (int d = 0; d < Dim; ++d)
+                out_v(i * Dim + d) = fluid(i) != 0 ? weight * (out_v(i * Dim + d) - kappa * w(i * Dim + d)) : 0.0;
             });
         space_.fence();
       } else {
@@ -291,12 +300,12 @@ class SteadySystem {
       static const std::string label = "poresph::steady::linear_divergence_rows";
       Kokkos::parallel_for(
           label, Kokkos::RangePolicy<ExecSpace>(space_, 0, owned_),
-          KOKKOS_LAMBDA(int i) { out_q(i) *= fluid(i) * to_q; });
+          KOKKOS_LAMBDA(int i) { out_q(i) = fluid(i) != 0 ? out_q(i) * (fluid(i) * to_q) : 0.0; });
       space_.fence();
     } else {
       ops_.fill(out_q, 0.0);
     }
-    ops_.fill(out_v, 0.0);
+    if (out_v.extent(0) > 0) ops_.fill(out_v, 0.0);
   }
 
   // The simulation's fluid state to y + step (wv, wq).
