@@ -190,6 +190,46 @@ TYPED_TEST(SteadySolverTest, ProductsOfOneTermAreTheJacobiansBlocks) {
   expect_products_of_one_term_are_the_blocks<3, TypeParam>(cube);
 }
 
+// An output of extent 0 is not wanted: G's velocity rows and D's density
+// rows come out the same to the bit without it, every row written (the
+// output starts full of NaNs, which a row multiplied by its zero weight
+// would keep), on the linear products and on the differences of one-term
+// pair loops; with all the terms both outputs are wanted.
+TYPED_TEST(SteadySolverTest, AnOutputOfExtentZeroIsNotWanted) {
+  using Space = TypeParam;
+  using System = SteadySystem<2, Space>;
+  using V = typename System::View;
+  Simulation<2, Space> sim(disc_cell(true));
+  System system(sim, Space());
+  ASSERT_TRUE(system.linear_products());
+  const int n = system.owned();
+  const auto w_v = random_vector<Space>(2 * n, 5, system.fluid_mask(), 2);
+  const auto w_q = random_vector<Space>(n, 6, system.fluid_mask(), 1);
+  V g_v("g_v", 2 * n), d_q("d_q", n), other_v("other_v", 2 * n), other_q("other_q", n), alone_v("alone_v", 2 * n),
+      alone_q("alone_q", n);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto not_finite = [](const V& values) {
+    const auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), values);
+    int count = 0;
+    for (size_t i = 0; i < host.extent(0); ++i) count += std::isfinite(host(i)) ? 0 : 1;
+    return count;
+  };
+  for (const bool differenced : {false, true}) {
+    if (differenced) system.difference_partial_products();
+    system.apply(nullptr, &w_q, g_v, other_q, System::Accuracy::Forward, System::RateTerms::Pressure);
+    Kokkos::deep_copy(alone_v, nan);
+    system.apply(nullptr, &w_q, alone_v, V(), System::Accuracy::Forward, System::RateTerms::Pressure);
+    EXPECT_EQ(not_finite(alone_v), 0) << "differenced " << differenced;
+    EXPECT_EQ(difference<Space>(alone_v, g_v), 0.0) << "differenced " << differenced;
+    system.apply(&w_v, nullptr, other_v, d_q, System::Accuracy::Forward, System::RateTerms::Continuity);
+    Kokkos::deep_copy(alone_q, nan);
+    system.apply(&w_v, nullptr, V(), alone_q, System::Accuracy::Forward, System::RateTerms::Continuity);
+    EXPECT_EQ(not_finite(alone_q), 0) << "differenced " << differenced;
+    EXPECT_EQ(difference<Space>(alone_q, d_q), 0.0) << "differenced " << differenced;
+  }
+  EXPECT_THROW(system.apply(&w_v, nullptr, V(), alone_q), std::logic_error);
+}
+
 // The pair loop of the pressure term alone reads no velocity and adds no
 // density rate (PairTermBase::reads_velocity, adds_density): with every
 // velocity NaN its accelerations are those with the velocities it had, to
