@@ -229,7 +229,10 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   // The steady solver (as its bytes_per_particle counts): its vectors for
   // the owned particles with the Krylov bases at their whole restart
   // (steady_vector_values); per process, the two lattice preconditioners,
-  // gathered whole (about 12.5 values a lattice point each).
+  // gathered whole, at most about 10.5 values a lattice point each
+  // (LatticePreconditioner::values_held: the multigrid's levels in floats
+  // 4, the gathered values and their indices 4.5 a fluid point, the wide
+  // one's sharpening 1.5, the gathered result 1 with more than one process).
   double steady_per_process = 0;
   if (scene.steady_solver) {
     const int restart = std::max(1, scene.solver.restart);
@@ -237,7 +240,7 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
     const int inner_cap = std::max(scene.solver.max_inner_iterations, scene.solver.raised_inner_iterations);
     const int inner_restart = std::max(1, std::min(scene.solver.inner_restart, inner_cap));
     const double vectors = steady_vector_values(2.0 * restart + 1, 2.0 * inner_restart + 1, D * owned, owned);
-    steady_per_process = 8.0 * (vectors + 25.0 * static_cast<double>(e.lattice_points));
+    steady_per_process = 8.0 * (vectors + 21.0 * static_cast<double>(e.lattice_points));
     e.bytes_per_process += steady_per_process;
   }
   // A warm start holds the stage before it while it sets up: the next
