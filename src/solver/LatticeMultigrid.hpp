@@ -71,20 +71,19 @@ class LatticeMultigrid {
   // below, cycle_from), b and x over all points of the finest lattice: a
   // fixed linear operator, whatever the cycle before it left.
   void cycle(const View& b, const View& x) const {
-    cycle_down(b);
-    cycle_up(x);
+    convert(b, levels_[0].b);
+    cycle_down();
+    cycle_up();
+    convert(levels_[0].x, x);
   }
 
   // The same cycle in two halves, for several multigrids on lattices of one
-  // shape that change their coarse corrections together: cycle_down(b) runs
-  // the cycle to the correction of the second level, coarse_correction()
-  // (empty with one level) may then be changed, cycle_up(x) finishes.
-  void cycle_down(const View& b) const {
-    convert(b, levels_[0].b);
-    cycle_down();
-  }
-  // The same from finest_b() as the caller left it: a caller that gathers
-  // its right-hand side onto the lattice writes it there in place, once.
+  // shape that change their coarse corrections together, the right-hand side
+  // written onto finest_b() by the caller (in place, once: off the unknowns
+  // it must stay 0): cycle_down() runs the cycle to the correction of the
+  // second level, coarse_correction() (empty with one level) may then be
+  // changed, cycle_up() finishes with the result in finest_x() (0 off the
+  // unknowns).
   void cycle_down() const {
     Kokkos::deep_copy(space_, levels_[0].x, Real(0));
     if (levels_.size() == 1) {
@@ -95,16 +94,9 @@ class LatticeMultigrid {
     cycle_from(1);
   }
   Field coarse_correction() const { return levels_.size() > 1 ? levels_[1].x : Field(); }
-  void cycle_up(const View& x) const {
-    cycle_up();
-    convert(levels_[0].x, x);
-  }
-  // The same, the result left in finest_x().
   void cycle_up() const {
     if (levels_.size() > 1) ascend(0, 1.0);
   }
-  // The finest level's right-hand side and result, over all its points;
-  // off the unknowns b must stay 0, and the cycle leaves x 0 there.
   Field finest_b() const { return levels_[0].b; }
   Field finest_x() const { return levels_[0].x; }
 

@@ -273,7 +273,7 @@ class SteadySystem {
             for (int d = 0; d < Dim; ++d) out_v(i * Dim + d) = fluid(i) != 0 ? out_v(i * Dim + d) * weight : 0.0;
           });
       space_.fence();
-      if (out_q.extent(0) > 0) ops_.fill(out_q, 0.0);
+      ops_.fill(out_q, 0.0);
       return;
     }
     if (terms == RateTerms::Velocity || terms == RateTerms::Viscous) {
@@ -305,7 +305,7 @@ class SteadySystem {
     } else {
       ops_.fill(out_q, 0.0);
     }
-    if (out_v.extent(0) > 0) ops_.fill(out_v, 0.0);
+    ops_.fill(out_v, 0.0);
   }
 
   // The simulation's fluid state to y + step (wv, wq).
