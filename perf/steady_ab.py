@@ -12,8 +12,10 @@ core (taskset -c CORE, Run/Backend = serial, Solver/Method = steady unless
 and prints, per build, the median solve seconds
 (summary.json's solver.solve_seconds), the median of the per-pair ratios
 candidate / reference, the Newton, linear and inner iterations and the
-permeability. Iterations and k that differ between the builds are printed
-as such: a change meant to leave the arithmetic alone must leave them equal.
+permeability. --candidate-set gives the candidate settings of its own, so
+that one build against itself measures a parameter. Iterations and k that
+differ between the builds are printed as such: a change meant to leave the
+arithmetic alone must leave them equal.
 """
 import argparse
 import json
@@ -47,6 +49,8 @@ def main():
     parser.add_argument("--candidate", required=True, help="build directory of the code after")
     parser.add_argument("--scene", required=True, help="scene XML")
     parser.add_argument("--set", action="append", default=[], help="PATH=VALUE, passed to both builds")
+    parser.add_argument("--candidate-set", action="append", default=[],
+                        help="PATH=VALUE, passed to the candidate only (after --set): a parameter's A/B on one build")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--core", type=int, default=0)
     parser.add_argument("--ranks", type=int, default=0, help="processes under mpirun (0: one, pinned to --core)")
@@ -59,7 +63,8 @@ def main():
     for r in range(args.repeats):
         for name, build in builds.items():
             directory = os.path.join(args.out, f"{name}_{r}")
-            t, counts, k = run(build, args.scene, args.set, directory, args.core, args.ranks)
+            sets = args.set + (args.candidate_set if name == "candidate" else [])
+            t, counts, k = run(build, args.scene, sets, directory, args.core, args.ranks)
             seconds[name].append(t)
             last[name] = (counts, k)
             print(f"{name} {r}: {t:.2f} s, Newton/linear/inner {counts}", flush=True)
