@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Scenes.hpp"
@@ -818,6 +819,46 @@ TYPED_TEST(SteadySolverTest, LscWeighsTheRowsNextToWalls) {
   for (size_t row = 0; row < open_scaling.extent(0); ++row)
     largest_share = std::max(largest_share, std::abs(1.0 - open_scaling(row) * open_diagonal(row)));
   EXPECT_LT(largest_share, 1e-9) << "a bulk row's share of wall drag is rounding";
+}
+
+// A solve of a cell of one grain (a disc, or in 3D a sphere, of radius a
+// quarter of the cell) with the inner solves asked for `inner_tolerance`:
+// its report and the superficial velocity along x.
+template <int Dim, class Space>
+std::pair<SteadyReport, double> solve_one_grain(double inner_tolerance) {
+  SceneConfig scene = Dim == 2 ? disc_cell(true) : testing::periodic_box(3, 10);
+  if (Dim == 3) {
+    scene.grains = grains_from_list({0.5, 0.5, 0.5, 0.25}, 3);
+    scene.body_force = {1e-3, 0, 0};
+    scene.sound_speed = 0;
+    scene.particle_motion = ParticleMotion::Fixed;
+  }
+  Simulation<Dim, Space> sim(scene);
+  SteadyOptions options;
+  options.inner_tolerance = inner_tolerance;
+  SteadySolver<Dim, Space> solver(sim, Space(), options, nullptr, nullptr);
+  const auto report = solver.solve();
+  return {report, sim.superficial_velocity()[0]};
+}
+
+// Solver/Inner Tolerance = 0 asks the inner solves for 0.05 in 2D and 0.01
+// in 3D: the same iterations and k to the bit as that tolerance given, and
+// other inner iterations than the other dimension's.
+template <int Dim, class Space>
+void expect_inner_tolerance_by_dimension(double expected, double other) {
+  const auto by_dimension = solve_one_grain<Dim, Space>(0.0);
+  const auto given = solve_one_grain<Dim, Space>(expected);
+  const auto not_this = solve_one_grain<Dim, Space>(other);
+  EXPECT_TRUE(by_dimension.first.converged) << Dim << "D";
+  EXPECT_EQ(by_dimension.first.linear_iterations, given.first.linear_iterations) << Dim << "D";
+  EXPECT_EQ(by_dimension.first.inner_iterations, given.first.inner_iterations) << Dim << "D";
+  EXPECT_EQ(by_dimension.second, given.second) << Dim << "D";
+  EXPECT_NE(by_dimension.first.inner_iterations, not_this.first.inner_iterations) << Dim << "D";
+}
+
+TYPED_TEST(SteadySolverTest, InnerToleranceZeroIsTheDimensionsDefault) {
+  expect_inner_tolerance_by_dimension<2, TypeParam>(0.05, 0.01);
+  expect_inner_tolerance_by_dimension<3, TypeParam>(0.01, 0.05);
 }
 
 // A solve held to two linear iterations does not converge, and says so.

@@ -480,10 +480,11 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Inner Krylov Restart", 30,
           "'steady': restart length of the preconditioner's inner GMRES solves (at most Max Inner Iterations).",
           int_in(2, 1000));
-    s.set("Inner Tolerance", 1e-2,
+    s.set("Inner Tolerance", 0.0,
           "'steady': relative tolerance of the preconditioner's inner solves (the pressure operator DG and the "
-          "velocity block).",
-          real_in(1e-12, 0.9));
+          "velocity block). 0 = by the dimension: 0.05 in 2D, 0.01 in 3D, the fastest of those measured "
+          "(docs/steady_solver.md, 'The inner tolerance by the dimension').",
+          real_in(0, 0.9));
     s.set("Max Inner Iterations", 100,
           "'steady': iterations of each inner solve at most, to start with (see Raised Inner Iterations). An "
           "image whose passages are one or two particles wide can need 1000 (docs/steady_solver.md, 'What fails "

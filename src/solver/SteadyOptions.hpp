@@ -14,7 +14,7 @@ struct SteadyOptions {
   int max_linear_iterations = 1000;  // per Newton step
   int restart = 30;        // of the outer GMRES (a Newton step's)
   int inner_restart = 30;  // of the inner solves (at most their cap)
-  double inner_tolerance = 1e-2;
+  double inner_tolerance = 0;  // Solver/Inner Tolerance; 0: by the dimension (SteadySolver)
   int max_inner_iterations = 100;      // the inner solves' cap to start with
   int raised_inner_iterations = 1600;  // what a stalled linear solve may raise it to (x4 at a time)
 };

@@ -105,6 +105,16 @@ class SteadySolver {
   // The DG preconditioner's sharpening (solver/LatticeSharpening.hpp): the
   // beta that measured fewest inner iterations, 0 to 8 tried (docs/steady_solver.md).
   static constexpr double kDgSharpening = Dim == 2 ? 2.0 : 4.0;
+  // The inner solves' tolerance where Solver/Inner Tolerance = 0. In 2D
+  // DG and its preconditioner differ by at most 50 between the corners of
+  // the zone, so a DG solve's residual follows its error, and a looser
+  // solve costs the outer solve few iterations: 0.05 took problem III at
+  // 0.0025 L in 0.75 of the time of 0.01. In 3D they differ by up to
+  // 2,840: a residual of 0.05 leaves weak modes the outer solve needs, and
+  // cost the simple cubic and fcc arrays and a blobs image more outer
+  // iterations than it saved inner ones (docs/steady_solver.md, "The inner
+  // tolerance by the dimension").
+  static constexpr double kDefaultInnerTolerance = Dim == 2 ? 5e-2 : 1e-2;
   // Below this, a velocity row's share of wall drag (wall_weighted_scaling)
   // is the forward difference's rounding (a bulk row's: about 1e-15).
   static constexpr double kDragShareFloor = 1e-6;
@@ -134,6 +144,7 @@ class SteadySolver {
     border_weights_host_ = Kokkos::create_mirror_view(border_weights_);
     report.fluid_regions = borders;
     inner_cap_ = options_.max_inner_iterations;
+    inner_tolerance_ = options_.inner_tolerance > 0 ? options_.inner_tolerance : kDefaultInnerTolerance;
     work_residual_q_ = View("steady_residual_q_drift_free", nq);
     setup_preconditioner(system);
     const double reference = rest_residual(system);
@@ -663,7 +674,7 @@ class SteadySolver {
   // What the preconditioner's inner solves are asked for.
   KrylovOptions inner_krylov() const {
     KrylovOptions krylov;
-    krylov.tolerance = options_.inner_tolerance;
+    krylov.tolerance = inner_tolerance_;
     krylov.max_iterations = inner_cap_;
     krylov.restart = std::min(options_.inner_restart, inner_cap_);
     // A stop signal is answered within an inner iteration, not at the end of
@@ -761,6 +772,7 @@ class SteadySolver {
   double wide_scale_ = 0, compact_scale_ = 0;
   long long inner_iterations_ = 0;
   int inner_cap_ = 0;                               // what an inner solve may take now
+  double inner_tolerance_ = 0;                      // what an inner solve is asked for
   long long dg_solves_ = 0, capped_dg_solves_ = 0;  // DG solves, and those that ended at the cap
   int outer_basis_ = 0, inner_basis_ = 0;  // the most vectors a solve's bases held
   KrylovWorkspace<ExecSpace> outer_workspace_, inner_workspace_;  // bases kept from solve to solve
