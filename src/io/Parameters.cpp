@@ -482,8 +482,8 @@ RCP<ParameterList> make_valid_parameters() {
           int_in(2, 1000));
     s.set("Inner Tolerance", 0.0,
           "'steady': relative tolerance of the preconditioner's inner solves (the pressure operator DG and the "
-          "velocity block). 0 = by the dimension: 0.05 in 2D, 0.01 in 3D, the fastest of those measured "
-          "(docs/steady_solver.md, 'The inner tolerance by the dimension').",
+          "velocity block). 0 = by the dimension: 0.05 in 2D, 0.01 in 3D (docs/steady_solver.md, 'The inner "
+          "tolerance by the dimension'). A Newton step taken only to settle k asks for 0.01 at most.",
           real_in(0, 0.9));
     s.set("Max Inner Iterations", 100,
           "'steady': iterations of each inner solve at most, to start with (see Raised Inner Iterations). An "
