@@ -888,6 +888,28 @@ TYPED_TEST(SteadySolverTest, SettlingStepSolvesItsInnerSolvesTo001) {
   EXPECT_EQ(loose.second, tight.second);
 }
 
+// A linear solve that does not halve its residual over a restart cycle
+// tightens an inner tolerance looser than 0.01 (by 5, not below 0.01) for
+// the rest of the solve; one that moves leaves it as asked.
+TYPED_TEST(SteadySolverTest, StalledLinearSolveTightensTheInnerTolerance) {
+  using Space = TypeParam;
+  auto solve = [](double inner_tolerance, int restart) {
+    Simulation<2, Space> sim(disc_cell(true));
+    SteadyOptions options;
+    options.inner_tolerance = inner_tolerance;
+    options.restart = restart;
+    return SteadySolver<2, Space>(sim, Space(), options, nullptr, nullptr).solve();
+  };
+  const auto moving = solve(0.0, 30);
+  EXPECT_TRUE(moving.converged);
+  EXPECT_EQ(moving.inner_tolerance, 0.05);
+  // Inner solves to 0.9 and a restart of 2: the first cycles do not halve.
+  const auto stalled = solve(0.9, 2);
+  EXPECT_TRUE(stalled.converged);
+  EXPECT_LT(stalled.inner_tolerance, 0.9);
+  EXPECT_GE(stalled.inner_tolerance, 0.01);
+}
+
 // A solve held to two linear iterations does not converge, and says so.
 TYPED_TEST(SteadySolverTest, CappedSolveIsNotConverged) {
   using Space = TypeParam;
