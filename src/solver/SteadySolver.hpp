@@ -206,7 +206,7 @@ class SteadySolver {
       // cycle with the inner cap as high as it goes ends the solve: on such
       // a pore space the steps crawl (docs/steady_solver.md, "k settled").
       const bool settling = residual <= options_.tolerance;
-      // A step that settles k has its inner solves to 0.01 at least: one
+      // A step that settles k asks its inner solves for 0.01 or less: one
       // to 0.05 resolves DG's weak modes too little to show how far k still
       // is. On the 64² image of one-voxel passages ("k settled") the
       // settling steps at 0.05 crawled until one moved k by less than
