@@ -822,10 +822,11 @@ TYPED_TEST(SteadySolverTest, LscWeighsTheRowsNextToWalls) {
 }
 
 // A solve of a cell of one grain (a disc, or in 3D a sphere, of radius a
-// quarter of the cell) with the inner solves asked for `inner_tolerance`:
-// its report and the superficial velocity along x.
+// quarter of the cell) with the inner solves asked for `inner_tolerance`
+// and the outer restart `restart`: its report and the superficial velocity
+// along x.
 template <int Dim, class Space>
-std::pair<SteadyReport, double> solve_one_grain(double inner_tolerance) {
+std::pair<SteadyReport, double> solve_one_grain(double inner_tolerance, int restart = SteadyOptions().restart) {
   SceneConfig scene = Dim == 2 ? disc_cell(true) : testing::periodic_box(3, 10);
   if (Dim == 3) {
     scene.grains = grains_from_list({0.5, 0.5, 0.5, 0.25}, 3);
@@ -836,8 +837,8 @@ std::pair<SteadyReport, double> solve_one_grain(double inner_tolerance) {
   Simulation<Dim, Space> sim(scene);
   SteadyOptions options;
   options.inner_tolerance = inner_tolerance;
-  SteadySolver<Dim, Space> solver(sim, Space(), options, nullptr, nullptr);
-  const auto report = solver.solve();
+  options.restart = restart;
+  const auto report = SteadySolver<Dim, Space>(sim, Space(), options, nullptr, nullptr).solve();
   return {report, sim.superficial_velocity()[0]};
 }
 
@@ -892,19 +893,11 @@ TYPED_TEST(SteadySolverTest, SettlingStepSolvesItsInnerSolvesTo001) {
 // tightens an inner tolerance looser than 0.01 (by 5, not below 0.01) for
 // the rest of the solve; one that moves leaves it as asked.
 TYPED_TEST(SteadySolverTest, StalledLinearSolveTightensTheInnerTolerance) {
-  using Space = TypeParam;
-  auto solve = [](double inner_tolerance, int restart) {
-    Simulation<2, Space> sim(disc_cell(true));
-    SteadyOptions options;
-    options.inner_tolerance = inner_tolerance;
-    options.restart = restart;
-    return SteadySolver<2, Space>(sim, Space(), options, nullptr, nullptr).solve();
-  };
-  const auto moving = solve(0.0, 30);
+  const auto moving = solve_one_grain<2, TypeParam>(0.0).first;
   EXPECT_TRUE(moving.converged);
   EXPECT_EQ(moving.inner_tolerance, 0.05);
   // Inner solves to 0.9 and a restart of 2: the first cycles do not halve.
-  const auto stalled = solve(0.9, 2);
+  const auto stalled = solve_one_grain<2, TypeParam>(0.9, 2).first;
   EXPECT_TRUE(stalled.converged);
   EXPECT_LT(stalled.inner_tolerance, 0.9);
   EXPECT_GE(stalled.inner_tolerance, 0.01);
