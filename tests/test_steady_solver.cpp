@@ -822,11 +822,19 @@ TYPED_TEST(SteadySolverTest, LscWeighsTheRowsNextToWalls) {
 }
 
 // A solve of a cell of one grain (a disc, or in 3D a sphere, of radius a
-// quarter of the cell) with the inner solves asked for `inner_tolerance`
-// and the outer restart `restart`: its report and the superficial velocity
-// along x.
+// quarter of the cell) with the inner solves asked for `inner_tolerance`,
+// the outer restart `restart` and the inner cap `inner_cap` at the start:
+// its report, the superficial velocity along x and the highest inner cap
+// the progress line showed.
+struct OneGrainSolve {
+  SteadyReport report;
+  double flow = 0;
+  int highest_inner_cap = 0;
+};
+
 template <int Dim, class Space>
-std::pair<SteadyReport, double> solve_one_grain(double inner_tolerance, int restart = SteadyOptions().restart) {
+OneGrainSolve solve_one_grain(double inner_tolerance, int restart = SteadyOptions().restart,
+                              int inner_cap = SteadyOptions().max_inner_iterations) {
   SceneConfig scene = Dim == 2 ? disc_cell(true) : testing::periodic_box(3, 10);
   if (Dim == 3) {
     scene.grains = grains_from_list({0.5, 0.5, 0.5, 0.25}, 3);
@@ -838,8 +846,14 @@ std::pair<SteadyReport, double> solve_one_grain(double inner_tolerance, int rest
   SteadyOptions options;
   options.inner_tolerance = inner_tolerance;
   options.restart = restart;
-  const auto report = SteadySolver<Dim, Space>(sim, Space(), options, nullptr, nullptr).solve();
-  return {report, sim.superficial_velocity()[0]};
+  options.max_inner_iterations = inner_cap;
+  OneGrainSolve solve;
+  auto progress = [&solve](const SteadyProgress& p) {
+    solve.highest_inner_cap = std::max(solve.highest_inner_cap, p.inner_cap);
+  };
+  solve.report = SteadySolver<Dim, Space>(sim, Space(), options, nullptr, progress).solve();
+  solve.flow = sim.superficial_velocity()[0];
+  return solve;
 }
 
 // Solver/Inner Tolerance = 0 asks the inner solves for 0.05 in 2D and 0.01
@@ -850,11 +864,11 @@ void expect_inner_tolerance_by_dimension(double expected, double other) {
   const auto by_dimension = solve_one_grain<Dim, Space>(0.0);
   const auto given = solve_one_grain<Dim, Space>(expected);
   const auto not_this = solve_one_grain<Dim, Space>(other);
-  EXPECT_TRUE(by_dimension.first.converged) << Dim << "D";
-  EXPECT_EQ(by_dimension.first.linear_iterations, given.first.linear_iterations) << Dim << "D";
-  EXPECT_EQ(by_dimension.first.inner_iterations, given.first.inner_iterations) << Dim << "D";
-  EXPECT_EQ(by_dimension.second, given.second) << Dim << "D";
-  EXPECT_NE(by_dimension.first.inner_iterations, not_this.first.inner_iterations) << Dim << "D";
+  EXPECT_TRUE(by_dimension.report.converged) << Dim << "D";
+  EXPECT_EQ(by_dimension.report.linear_iterations, given.report.linear_iterations) << Dim << "D";
+  EXPECT_EQ(by_dimension.report.inner_iterations, given.report.inner_iterations) << Dim << "D";
+  EXPECT_EQ(by_dimension.flow, given.flow) << Dim << "D";
+  EXPECT_NE(by_dimension.report.inner_iterations, not_this.report.inner_iterations) << Dim << "D";
 }
 
 TYPED_TEST(SteadySolverTest, InnerToleranceZeroIsTheDimensionsDefault) {
@@ -893,14 +907,26 @@ TYPED_TEST(SteadySolverTest, SettlingStepSolvesItsInnerSolvesTo001) {
 // tightens an inner tolerance looser than 0.01 (by 5, not below 0.01) for
 // the rest of the solve; one that moves leaves it as asked.
 TYPED_TEST(SteadySolverTest, StalledLinearSolveTightensTheInnerTolerance) {
-  const auto moving = solve_one_grain<2, TypeParam>(0.0).first;
+  const auto moving = solve_one_grain<2, TypeParam>(0.0).report;
   EXPECT_TRUE(moving.converged);
   EXPECT_EQ(moving.inner_tolerance, 0.05);
   // Inner solves to 0.9 and a restart of 2: the first cycles do not halve.
-  const auto stalled = solve_one_grain<2, TypeParam>(0.9, 2).first;
+  const auto stalled = solve_one_grain<2, TypeParam>(0.9, 2).report;
   EXPECT_TRUE(stalled.converged);
   EXPECT_LT(stalled.inner_tolerance, 0.9);
   EXPECT_GE(stalled.inner_tolerance, 0.01);
+}
+
+// A stall while most DG solves end at their cap raises the cap and leaves
+// the inner tolerance as asked: the cap, not the tolerance, is what ends
+// those solves. Inner solves capped at one iteration and a restart of 2:
+// the cap rises, and the tolerance stays 0.05 (with both changed on such a
+// stall it ended at 0.01).
+TYPED_TEST(SteadySolverTest, StallWithCappedInnerSolvesRaisesTheCapNotTheTolerance) {
+  const auto capped = solve_one_grain<2, TypeParam>(0.05, 2, 1);
+  EXPECT_TRUE(capped.report.converged);
+  EXPECT_GT(capped.highest_inner_cap, 1);
+  EXPECT_EQ(capped.report.inner_tolerance, 0.05);
 }
 
 // A solve held to two linear iterations does not converge, and says so.

@@ -485,7 +485,8 @@ RCP<ParameterList> make_valid_parameters() {
           "velocity block). 0 = by the dimension: 0.05 in 2D, 0.01 in 3D (docs/steady_solver.md, 'The inner "
           "tolerance by the dimension'). A Newton step taken only to settle k asks for 0.01 at most, and a looser "
           "tolerance is divided by 5 (not below 0.01) whenever a linear solve has not halved its residual over "
-          "Krylov Restart iterations.",
+          "Krylov Restart iterations while most of its DG solves ended by the tolerance, not at the cap (see "
+          "Raised Inner Iterations).",
           real_in(0, 0.9));
     s.set("Max Inner Iterations", 100,
           "'steady': iterations of each inner solve at most, to start with (see Raised Inner Iterations). An "
