@@ -305,12 +305,16 @@ def exact_dg_solver(DG):
     return spla.splu((DG + shift * sp.identity(DG.shape[0])).tocsc()).solve
 
 
-def wide_laplacian_solver(system, DG):
+def wide_laplacian_solver(system, DG, coupling=0.0):
     """r -> L^-1 r / s by LU: L the wide Laplacian (stride 2, solid neighbours on the
     diagonal; zero at the same Brillouin-zone corners as DG, it splits into 2^d
     independent compact Laplacians on the sub-lattices of spacing 2), s its ratio to DG
-    on a smooth mode."""
+    on a smooth mode. With `coupling`, the compact Laplacian (stride 1) times it is
+    added: it joins the sub-lattices, so that a narrow passage's sign patterns are not
+    nearly free."""
     L = system.compact_laplacian(neumann=False, stride=2)
+    if coupling:
+        L = L + coupling * system.compact_laplacian(neumann=True)
     smooth = np.cos(2 * np.pi * system.lattice[:, 0] / system.shape[0])
     scale = (smooth @ (DG @ smooth)) / (smooth @ (L @ smooth))
     lu = spla.splu(L.tocsc())
@@ -331,6 +335,57 @@ def dg_schwarz(system, DG, block, overlap):
     print(f"  Schwarz on DG: {len(patches)} blocks of {block}, overlap {overlap}, "
           f"largest {max(len(p[0]) for p in patches)} particles")
     return restricted_additive_schwarz(patches)
+
+
+def narrow_points(system, width):
+    """Which fluid points lie where no ball `width` points across fits in the pore
+    space (the scene check's passages narrower than `width` spacings): the pore
+    space less its opening by that ball, on the periodic lattice."""
+    from scipy import ndimage
+    pore = np.zeros(system.shape, dtype=bool)
+    pore[tuple(system.lattice.T)] = True
+    tiled = np.tile(pore, (3,) * system.dim)
+    middle = tuple(slice(n, 2 * n) for n in system.shape)
+    distance = ndimage.distance_transform_edt(tiled)
+    radius = width / 2.0
+    centres = distance > radius
+    reach = int(np.ceil(radius))
+    offsets = np.array(list(itertools.product(range(-reach, reach + 1), repeat=system.dim)))
+    ball = np.zeros((2 * reach + 1,) * system.dim, dtype=bool)
+    ball[tuple((offsets + reach).T)] = np.linalg.norm(offsets, axis=1) <= radius
+    covered = ndimage.binary_dilation(centres, structure=ball)[middle]
+    return ~covered[tuple(system.lattice.T)]
+
+
+def dg_narrow_schwarz(system, DG, block, overlap, width):
+    """The wide Laplacian (wide_laplacian_solver), then a restricted additive
+    Schwarz correction of DG's residual on the blocks of block^d points that hold a
+    narrow point (narrow_points), each extended by overlap points a side and solved
+    by LU: the local weak modes of narrow passages resolved where they live."""
+    DG = DG.tocsr()
+    wide = wide_laplacian_solver(system, DG)
+    narrow = narrow_points(system, width)
+    block_id, extended = extended_blocks(system, block, overlap)
+    _, block_of = np.unique(block_id, return_inverse=True)
+    wanted = set(np.unique(block_of[narrow]))
+    patches = []
+    for b, (members, owns) in enumerate(extended):
+        if b not in wanted:
+            continue
+        local = DG[members][:, members].tocsc()
+        local = local + 1e-8 * abs(local.diagonal()).max() * sp.identity(len(members), format="csc")
+        patches.append((members, owns, spla.splu(local).solve))
+    held = sum(len(p[0]) for p in patches)
+    owned = sum(int(p[1].sum()) for p in patches)
+    print(f"  narrow points (no ball {width} across): {narrow.sum()} of {system.n}; {len(patches)} blocks of "
+          f"{block}, overlap {overlap}: {owned} points owned, {held} held ({held / system.n:.2f} a particle)")
+    ras = restricted_additive_schwarz(patches)
+
+    def apply(r):
+        z = wide(r)
+        return z + ras(r - DG @ z)
+
+    return apply
 
 
 def method_lsc(system, args):
@@ -374,9 +429,12 @@ def method_lsc_capped(system, args):
     largest eigenvalue, as small against the weak modes) to --inner-tol, at most
     --inner-maxit iterations, preconditioned by --inner-preconditioner: the wide Laplacian
     (stride 2, solid neighbours on the diagonal) solved exactly and scaled to DG on a
-    smooth mode, nothing, the smoothed aggregation of `sa` (blocks of 4), or restricted
-    additive Schwarz on DG (dg_schwarz: --block, default 8, and --overlap); the mean
-    removed after. And, for comparison, (DG + s I)^-1 by LU."""
+    smooth mode, nothing, the smoothed aggregation of `sa` (blocks of 4), restricted
+    additive Schwarz on DG (dg_schwarz: --block, default 8, and --overlap), the wide
+    Laplacian followed by that Schwarz on the blocks of narrow passages only
+    (dg_narrow_schwarz: --narrow-width), or the wide Laplacian joined across its
+    sub-lattices by the compact one (wide_laplacian_solver: --coupling); the
+    mean removed after. And, for comparison, (DG + s I)^-1 by LU."""
     DG, DAG = dg_operators(system)
     shift = args.dg_shift * DG.diagonal().mean()
     shifted = (DG + shift * sp.identity(system.n)).tocsr()
@@ -385,6 +443,10 @@ def method_lsc_capped(system, args):
         preconditioners["sa"] = dg_multigrid(system, DG.tocsr(), 4)[0]
     if args.inner_preconditioner == "schwarz":
         preconditioners["schwarz"] = dg_schwarz(system, DG, args.block, args.overlap)
+    if args.inner_preconditioner == "coupled":
+        preconditioners["coupled"] = wide_laplacian_solver(system, DG, args.coupling)
+    if args.inner_preconditioner == "narrow":
+        preconditioners["narrow"] = dg_narrow_schwarz(system, DG, args.block, args.overlap, args.narrow_width)
     inner = [0, 0]
 
     def capped(r):
@@ -918,7 +980,8 @@ def main():
     parser.add_argument("--restart", type=int, default=None, help="GMRES restart (default: none)")
     parser.add_argument("--inner-tol", type=float, default=1e-2)
     parser.add_argument("--inner-maxit", type=int, default=100, help="lsc-capped: inner iterations at most")
-    parser.add_argument("--inner-preconditioner", choices=["wide", "none", "sa", "schwarz"], default="wide",
+    parser.add_argument("--inner-preconditioner", choices=["wide", "none", "sa", "schwarz", "narrow", "coupled"],
+                        default="wide",
                         help="lsc-capped: what preconditions the DG solves")
     parser.add_argument("--dg-shift", type=float, default=1e-10,
                         help="lsc-capped: the shift of DG, over its mean diagonal")
@@ -928,6 +991,10 @@ def main():
     parser.add_argument("--block", type=int, default=None,
                         help="Schwarz blocks (default 8) or aggregates (default 4), in lattice points a side")
     parser.add_argument("--overlap", type=int, default=4)
+    parser.add_argument("--coupling", type=float, default=0.1,
+                        help="lsc-capped, coupled: the compact Laplacian's weight beside the wide one")
+    parser.add_argument("--narrow-width", type=float, default=3.0,
+                        help="lsc-capped, narrow: passages narrower than this many spacings get local solves")
     parser.add_argument("--modes", type=int, default=12)
     parser.add_argument("--newton-steps", type=int, default=4)
     parser.add_argument("--scene", help="newton: the scene the Jacobian was exported from")
