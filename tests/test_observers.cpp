@@ -3,6 +3,7 @@
 // stage's observations.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -12,6 +13,7 @@
 #include "TestSpaces.hpp"
 #include "app/Simulation.hpp"
 #include "app/StageObservers.hpp"
+#include "io/ProgressLine.hpp"
 
 namespace poresph {
 namespace {
@@ -103,3 +105,19 @@ TYPED_TEST(ObserverFactoryTest, NoForceNoPermeabilityProbe) {
 
 }  // namespace
 }  // namespace poresph
+
+// The progress line's ETA of a steady solve's Newton step: the time to its
+// end at the rate the step has gone so far, 0 once there, none before the
+// residual has fallen.
+TEST(ProgressLine, GeometricEtaFollowsTheStepsOwnRate) {
+  using poresph::geometric_eta;
+  // A decade in 10 s; a decade to go: 10 s more.
+  EXPECT_NEAR(geometric_eta(1e-3, 0.0, 1e-4, 10.0, 1e-5), 10.0, 1e-9);
+  // The same fall taking 100 s (a step that crawls): 100 s more.
+  EXPECT_NEAR(geometric_eta(1e-3, 0.0, 1e-4, 100.0, 1e-5), 100.0, 1e-9);
+  // Below the step's end: done, whatever the rate.
+  EXPECT_EQ(geometric_eta(1e-3, 0.0, 1e-6, 10.0, 1e-5), 0.0);
+  // Not yet fallen, or no time passed: no rate, no ETA.
+  EXPECT_TRUE(std::isnan(geometric_eta(1e-3, 0.0, 1e-3, 10.0, 1e-5)));
+  EXPECT_TRUE(std::isnan(geometric_eta(1e-3, 5.0, 1e-4, 5.0, 1e-5)));
+}

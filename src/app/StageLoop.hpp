@@ -222,20 +222,24 @@ class StageLoop {
     const auto loop_start = Clock::now();
     auto seconds = [&]() { return std::chrono::duration<double>(Clock::now() - loop_start).count(); };
     if (sim.communicator().any(stop_signal_pending())) stop_for(stop_signal_received(), seconds(), first_step);
-    const double tolerance = scene_.solver.tolerance;
     const double force = body_force_magnitude(scene_);
+    // Where the Newton step being solved began: its index, residual estimate and time.
+    int step_index = -1;
+    double step_from = 0, step_from_seconds = 0;
     auto show = [&](const SteadyProgress& s) {
-      // Done, as a fraction of the decades of residual from the start to the tolerance.
       const double expected = s.residual * (s.linear_residual > 0 ? s.linear_residual : 1.0);
       char text[256];
       int n = std::snprintf(text, sizeof text, "Newton %d  linear %lld  residual %.2e", s.nonlinear_iterations,
                             s.linear_iterations, expected);
-      if (!steady_start_residual_) steady_start_residual_ = s.residual;
-      const double span = std::log(steady_start_residual_ / tolerance), done = std::log(steady_start_residual_ / expected);
-      if (span > 0 && done > 0) {
-        const double eta = seconds() * std::max(span - done, 0.0) / done;
-        n += std::snprintf(text + n, sizeof text - n, "  ETA %.0f s", eta);
-      }
+      // The step's end (its residual times its linear tolerance) at the rate
+      // the step has gone so far: a step solved past the solve's tolerance,
+      // or one that settles k, still shows the time it needs.
+      if (s.nonlinear_iterations != step_index)
+        step_index = s.nonlinear_iterations, step_from = expected, step_from_seconds = seconds();
+      const double eta = s.linear_residual > 0 ? geometric_eta(step_from, step_from_seconds, expected, seconds(),
+                                                               s.residual * s.linear_tolerance)
+                                               : std::nan("");
+      if (std::isfinite(eta)) n += std::snprintf(text + n, sizeof text - n, "  step ETA %.0f s", eta);
       if (s.inner_cap > scene_.solver.max_inner_iterations)
         n += std::snprintf(text + n, sizeof text - n, "  inner cap %d", s.inner_cap);
       if (measures_permeability() && force > 0)
@@ -449,7 +453,6 @@ class StageLoop {
   long long last_step_ = 0;
   std::vector<std::unique_ptr<Observer<Sim>>> observers_;  // app/StageObservers.hpp, in their order
   std::optional<SteadyReport> steady_report_;  // Solver/Method = steady, once solved
-  double steady_start_residual_ = 0;           // for the progress line's ETA
   std::vector<Observer<Sim>*> probes_, writers_;  // measure, then write: the steady stop comes between
 };
 

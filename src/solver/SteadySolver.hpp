@@ -73,6 +73,7 @@ struct SteadyProgress {
   long long linear_iterations = 0;
   double residual = 0;         // of the nonlinear system, relative
   double linear_residual = 0;  // of the Newton step being solved
+  double linear_tolerance = 0; // what that step's linear solve is asked for: it ends at residual x this
   int inner_cap = 0;           // the inner solves' cap now (raised from Solver/Max Inner Iterations)
 };
 
@@ -200,6 +201,7 @@ class SteadySolver {
       if (retry_tolerance > 0) krylov.tolerance = retry_tolerance;
       krylov.max_iterations = options_.max_linear_iterations;
       krylov.restart = options_.restart;
+      status.linear_tolerance = krylov.tolerance;
       CapWatch watch{0, 1.0, dg_solves_, capped_dg_solves_};
       // A step taken only to settle k (the residual already below the
       // tolerance) that cannot halve its linear residual over a restart
