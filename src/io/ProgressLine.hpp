@@ -23,11 +23,9 @@ namespace poresph {
 // so that a step that crawls shows a time that grows, not the 0 of a
 // residual already below the solve's tolerance.
 inline double geometric_eta(double from, double from_seconds, double now, double now_seconds, double target) {
-  if (!(now <= target)) {
-    if (!(now < from) || !(now_seconds > from_seconds) || !(target > 0)) return std::nan("");
-    return std::log(now / target) * (now_seconds - from_seconds) / std::log(from / now);
-  }
-  return 0.0;
+  if (now <= target) return 0.0;
+  if (!(now < from) || !(now_seconds > from_seconds) || !(target > 0)) return std::nan("");
+  return std::log(now / target) * (now_seconds - from_seconds) / std::log(from / now);
 }
 
 class ProgressLine {

@@ -71,10 +71,10 @@ struct SteadyReport {
 struct SteadyProgress {
   int nonlinear_iterations = 0;
   long long linear_iterations = 0;
-  double residual = 0;         // of the nonlinear system, relative
-  double linear_residual = 0;  // of the Newton step being solved
-  double linear_tolerance = 0; // what that step's linear solve is asked for: it ends at residual x this
-  int inner_cap = 0;           // the inner solves' cap now (raised from Solver/Max Inner Iterations)
+  double residual = 0;          // of the nonlinear system, relative
+  double linear_residual = 0;   // of the Newton step being solved
+  double linear_tolerance = 0;  // what that step's linear solve is asked for: it ends at residual x this
+  int inner_cap = 0;            // the inner solves' cap now (raised from Solver/Max Inner Iterations)
 };
 
 // Per region of the fluid (FluidRegions::of), the sum of q over its particles, in one pass.
