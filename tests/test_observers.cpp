@@ -121,3 +121,22 @@ TEST(ProgressLine, GeometricEtaFollowsTheStepsOwnRate) {
   EXPECT_TRUE(std::isnan(geometric_eta(1e-3, 0.0, 1e-3, 10.0, 1e-5)));
   EXPECT_TRUE(std::isnan(geometric_eta(1e-3, 5.0, 1e-4, 5.0, 1e-5)));
 }
+
+// The anchor of the ETA's rate moves on with the window: after a fall of a
+// decade in the first 20 s and none in the next 40, the rate is taken over
+// the last 20 to 40 s, where nothing fell (no ETA), not over the whole step.
+TEST(ProgressLine, RecentAnchorTakesTheRateOfTheLastWindows) {
+  poresph::RecentAnchor anchor;
+  anchor.restart(1e-3, 0.0);
+  anchor.update(1e-4, 20.0);  // a window passed: the anchor is still the start
+  EXPECT_EQ(anchor.value, 1e-3);
+  EXPECT_EQ(anchor.seconds, 0.0);
+  anchor.update(1e-4, 30.0);  // within the window: nothing moves
+  EXPECT_EQ(anchor.seconds, 0.0);
+  anchor.update(1e-4, 40.0);  // the next: the anchor is where it stood at 20 s
+  EXPECT_EQ(anchor.value, 1e-4);
+  EXPECT_EQ(anchor.seconds, 20.0);
+  EXPECT_TRUE(std::isnan(poresph::geometric_eta(anchor.value, anchor.seconds, 1e-4, 60.0, 1e-5)));
+  anchor.restart(2e-5, 60.0);  // a new step starts afresh
+  EXPECT_EQ(anchor.seconds, 60.0);
+}

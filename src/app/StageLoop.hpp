@@ -223,22 +223,24 @@ class StageLoop {
     auto seconds = [&]() { return std::chrono::duration<double>(Clock::now() - loop_start).count(); };
     if (sim.communicator().any(stop_signal_pending())) stop_for(stop_signal_received(), seconds(), first_step);
     const double force = body_force_magnitude(scene_);
-    // Where the Newton step being solved began: its index, residual estimate and time.
+    // The Newton step being solved, and where its residual estimate stood a while ago.
     int step_index = -1;
-    double step_from = 0, step_from_seconds = 0;
+    RecentAnchor anchor;
     auto show = [&](const SteadyProgress& s) {
       const double expected = s.residual * (s.linear_residual > 0 ? s.linear_residual : 1.0);
       char text[256];
       int n = std::snprintf(text, sizeof text, "Newton %d  linear %lld  residual %.2e", s.nonlinear_iterations,
                             s.linear_iterations, expected);
       // The step's end (its residual times its linear tolerance) at the rate
-      // the step has gone so far: a step solved past the solve's tolerance,
-      // or one that settles k, still shows the time it needs.
-      if (s.nonlinear_iterations != step_index)
-        step_index = s.nonlinear_iterations, step_from = expected, step_from_seconds = seconds();
-      const double eta = s.linear_residual > 0 ? geometric_eta(step_from, step_from_seconds, expected, seconds(),
-                                                               s.residual * s.linear_tolerance)
-                                               : std::nan("");
+      // of the step's last 20 to 40 s: a step solved past the solve's
+      // tolerance, or one that settles k, still shows the time it needs,
+      // and one that crawls shows a time that grows.
+      const double now = seconds();
+      if (s.nonlinear_iterations != step_index) step_index = s.nonlinear_iterations, anchor.restart(expected, now);
+      anchor.update(expected, now);
+      const double step_end = s.residual * s.linear_tolerance;
+      const double eta =
+          s.linear_residual > 0 ? geometric_eta(anchor.value, anchor.seconds, expected, now, step_end) : std::nan("");
       if (std::isfinite(eta)) n += std::snprintf(text + n, sizeof text - n, "  step ETA %.0f s", eta);
       if (s.inner_cap > scene_.solver.max_inner_iterations)
         n += std::snprintf(text + n, sizeof text - n, "  inner cap %d", s.inner_cap);

@@ -28,6 +28,23 @@ inline double geometric_eta(double from, double from_seconds, double now, double
   return std::log(now / target) * (now_seconds - from_seconds) / std::log(from / now);
 }
 
+// Where a falling quantity stood a while ago, for geometric_eta's rate:
+// the older of two anchors that move on every `window` seconds, so that
+// the rate spans the last one to two windows, not the whole fall, and a
+// crawl shows as one.
+struct RecentAnchor {
+  double window = 20.0;
+  double value = 0, seconds = 0;         // the older anchor: the rate is taken from here
+  double next_value = 0, next_seconds = 0;
+
+  void restart(double v, double t) { value = next_value = v, seconds = next_seconds = t; }
+  void update(double v, double t) {
+    if (t - next_seconds < window) return;
+    value = next_value, seconds = next_seconds;
+    next_value = v, next_seconds = t;
+  }
+};
+
 class ProgressLine {
  public:
   using Clock = std::chrono::steady_clock;
