@@ -19,9 +19,9 @@ namespace poresph {
 // Seconds still to go for a quantity that fell from `from` (at `from_seconds`)
 // to `now` (at `now_seconds`) to fall on to `target` at the same geometric
 // rate; 0 once it is there, NaN while it has not fallen (no rate yet). A
-// steady solve's Newton step: its residual estimate since the step began,
-// so that a step that crawls shows a time that grows, not the 0 of a
-// residual already below the solve's tolerance.
+// steady solve's Newton step: its residual estimate since a recent anchor
+// (RecentAnchor), so that a step that crawls shows a time that grows, not
+// the 0 of a residual already below the solve's tolerance.
 inline double geometric_eta(double from, double from_seconds, double now, double now_seconds, double target) {
   if (now <= target) return 0.0;
   if (!(now < from) || !(now_seconds > from_seconds) || !(target > 0)) return std::nan("");
