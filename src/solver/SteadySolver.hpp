@@ -152,7 +152,8 @@ class SteadySolver {
     border_weights_host_ = Kokkos::create_mirror_view(border_weights_);
     report.fluid_regions = borders;
     inner_cap_ = options_.max_inner_iterations;
-    inner_tolerance_ = step_inner_tolerance_ = inner_tolerance_asked();
+    step_inner_tolerance_ = inner_tolerance_asked();
+    settling_step_ = false;
     work_residual_q_ = View("steady_residual_q_drift_free", nq);
     setup_preconditioner(system);
     const double reference = rest_residual(system);
@@ -207,14 +208,9 @@ class SteadySolver {
       // tolerance) that cannot halve its linear residual over a restart
       // cycle with the inner cap as high as it goes ends the solve: on such
       // a pore space the steps crawl (docs/steady_solver.md, "k settled").
+      // Its inner solves are asked for 0.01 at most (inner_tolerance).
       const bool settling = residual <= options_.tolerance;
-      // A step that settles k asks its inner solves for 0.01 or less: one
-      // to 0.05 resolves DG's weak modes too little to show how far k still
-      // is. On the 64² image of one-voxel passages ("k settled") the
-      // settling steps at 0.05 crawled until one moved k by less than
-      // Solver/Permeability Tolerance, 28 % from the exact step, where at
-      // 0.01 the solve ends unsettled (exit status 4).
-      inner_tolerance_ = settling ? std::min(step_inner_tolerance_, kSettlingInnerTolerance) : step_inner_tolerance_;
+      settling_step_ = settling;
       bool cannot_settle = false;
       krylov.after_iteration = [&](int iterations, double linear_residual) {
         cannot_settle = cannot_settle || (settling && cycle_without_halving(watch, iterations, linear_residual) &&
@@ -313,6 +309,15 @@ class SteadySolver {
   double inner_tolerance_asked() const {
     return options_.inner_tolerance > 0 ? options_.inner_tolerance : kDefaultInnerTolerance;
   }
+  // What the inner solves are asked for now. A step that settles k asks for
+  // 0.01 or less: one to 0.05 resolves DG's weak modes too little to show
+  // how far k still is. On the 64² image of one-voxel passages ("k
+  // settled") the settling steps at 0.05 crawled until one moved k by less
+  // than Solver/Permeability Tolerance, 28 % from the exact step, where at
+  // 0.01 the solve ends unsettled (exit status 4).
+  double inner_tolerance() const {
+    return settling_step_ ? std::min(step_inner_tolerance_, kSettlingInnerTolerance) : step_inner_tolerance_;
+  }
   // Whether a whole restart cycle of outer iterations has passed since the
   // watch was last set without halving the linear residual.
   bool cycle_without_halving(const CapWatch& watch, int iteration, double residual) const {
@@ -341,10 +346,8 @@ class SteadySolver {
     const bool cap_binds = solves > 0 && 2 * capped >= solves && inner_cap_ < options_.raised_inner_iterations;
     if (stalled && cap_binds)
       inner_cap_ = static_cast<int>(std::min<long long>(options_.raised_inner_iterations, 4LL * inner_cap_));
-    else if (stalled && inner_tolerance_ > kSettlingInnerTolerance) {
+    else if (stalled && inner_tolerance() > kSettlingInnerTolerance)
       step_inner_tolerance_ = std::max(kSettlingInnerTolerance, 0.2 * step_inner_tolerance_);
-      inner_tolerance_ = step_inner_tolerance_;
-    }
     watch = {iteration, residual, dg_solves_, capped_dg_solves_};
   }
 
@@ -707,7 +710,7 @@ class SteadySolver {
   // What the preconditioner's inner solves are asked for.
   KrylovOptions inner_krylov() const {
     KrylovOptions krylov;
-    krylov.tolerance = inner_tolerance_;
+    krylov.tolerance = inner_tolerance();
     krylov.max_iterations = inner_cap_;
     krylov.restart = std::min(options_.inner_restart, inner_cap_);
     // A stop signal is answered within an inner iteration, not at the end of
@@ -805,8 +808,8 @@ class SteadySolver {
   double wide_scale_ = 0, compact_scale_ = 0;
   long long inner_iterations_ = 0;
   int inner_cap_ = 0;                               // what an inner solve may take now
-  double inner_tolerance_ = 0;                      // what an inner solve is asked for
-  double step_inner_tolerance_ = 0;                 // ... in a step that does not settle k (tightened on stalls)
+  double step_inner_tolerance_ = 0;  // what inner solves are asked for in a step that does not settle k
+  bool settling_step_ = false;       // whether the Newton step being solved settles k
   long long dg_solves_ = 0, capped_dg_solves_ = 0;  // DG solves, and those that ended at the cap
   int outer_basis_ = 0, inner_basis_ = 0;  // the most vectors a solve's bases held
   KrylovWorkspace<ExecSpace> outer_workspace_, inner_workspace_;  // bases kept from solve to solve
