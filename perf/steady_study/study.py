@@ -321,14 +321,17 @@ def wide_laplacian_solver(system, DG, coupling=0.0):
     return lambda r: lu.solve(r) / scale
 
 
-def dg_schwarz(system, DG, block, overlap):
+def dg_schwarz(system, DG, block, overlap, keep=None):
     """Restricted additive Schwarz on DG: blocks of block^d lattice points, each
     extended by overlap points a side, DG on each extended block solved by LU (a
     shift of 1e-8 of its largest diagonal: the block of a closed pocket is
-    singular), each block's solution kept on its own points."""
+    singular), each block's solution kept on its own points. `keep`: a mask of the
+    fluid points; only the blocks that own one of them are taken (all if None)."""
     DG = DG.tocsr()
     patches = []
     for members, owns in extended_blocks(system, block, overlap)[1]:
+        if keep is not None and not keep[members[owns]].any():
+            continue
         local = DG[members][:, members].tocsc()
         local = local + 1e-8 * abs(local.diagonal()).max() * sp.identity(len(members), format="csc")
         patches.append((members, owns, spla.splu(local).solve))
@@ -365,21 +368,8 @@ def dg_narrow_schwarz(system, DG, block, overlap, width):
     DG = DG.tocsr()
     wide = wide_laplacian_solver(system, DG)
     narrow = narrow_points(system, width)
-    block_id, extended = extended_blocks(system, block, overlap)
-    _, block_of = np.unique(block_id, return_inverse=True)
-    wanted = set(np.unique(block_of[narrow]))
-    patches = []
-    for b, (members, owns) in enumerate(extended):
-        if b not in wanted:
-            continue
-        local = DG[members][:, members].tocsc()
-        local = local + 1e-8 * abs(local.diagonal()).max() * sp.identity(len(members), format="csc")
-        patches.append((members, owns, spla.splu(local).solve))
-    held = sum(len(p[0]) for p in patches)
-    owned = sum(int(p[1].sum()) for p in patches)
-    print(f"  narrow points (no ball {width} across): {narrow.sum()} of {system.n}; {len(patches)} blocks of "
-          f"{block}, overlap {overlap}: {owned} points owned, {held} held ({held / system.n:.2f} a particle)")
-    ras = restricted_additive_schwarz(patches)
+    print(f"  narrow points (no ball {width} across): {narrow.sum()} of {system.n}")
+    ras = dg_schwarz(system, DG, block, overlap, keep=narrow)
 
     def apply(r):
         z = wide(r)
