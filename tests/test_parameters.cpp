@@ -177,6 +177,26 @@ TEST(Parameters, OuterAndInnerKrylovRestartsAreApart) {
   EXPECT_NE(message.find("Inner Krylov Restart"), std::string::npos) << message;
 }
 
+// Solver/DG Preconditioner: 'lattice' by default, 'schwarz' taken in 2D
+// and refused in 3D (its set-up and factors are too dear there), by name.
+TEST(Parameters, SchwarzDgPreconditionerIsFor2D) {
+  auto list = minimal_scene();
+  validate_parameters(list);
+  EXPECT_EQ(scene_from_parameters(list).solver.dg_preconditioner, DgPreconditioner::Lattice);
+  apply_override(list, "Solver/Method=steady");
+  apply_override(list, "Solver/DG Preconditioner=schwarz");
+  validate_parameters(list);
+  EXPECT_EQ(scene_from_parameters(list).solver.dg_preconditioner, DgPreconditioner::Schwarz);
+  list.sublist("Domain").set("Cell Size", array<double>({1.0, 1.0, 1.0}));
+  list.sublist("Fluid").set("Body Force", array<double>({1e-3, 0.0, 0.0}));
+  validate_parameters(list);
+  const auto message = error_of([&] { scene_from_parameters(list); });
+  EXPECT_NE(message.find("Solver/DG Preconditioner = schwarz is for 2D"), std::string::npos) << message;
+  auto misspelt = minimal_scene();
+  misspelt.sublist("Solver").set("DG Preconditioner", std::string("ras"));
+  EXPECT_NE(error_of([&] { validate_parameters(misspelt); }).find("'ras' is not one of"), std::string::npos);
+}
+
 TEST(Parameters, SetRejectsUnknownPathsAndBadValues) {
   auto list = minimal_scene();
   EXPECT_NE(error_of([&] { apply_override(list, "Fluid/Viscosity=1"); }).find("Fluid/Viscosity"), std::string::npos);

@@ -19,6 +19,7 @@
 #include "solver/LatticeMultigrid.hpp"
 #include "solver/LatticePreconditioner.hpp"
 #include "solver/LatticeSharpening.hpp"
+#include "solver/SchwarzPreconditioner.hpp"
 #include "solver/SteadySolver.hpp"
 #include "solver/SteadySystem.hpp"
 
@@ -929,6 +930,28 @@ TYPED_TEST(SteadySolverTest, StallWithCappedInnerSolvesRaisesTheCapNotTheToleran
   EXPECT_EQ(capped.report.inner_tolerance, 0.05);
 }
 
+// Solver/DG Preconditioner = schwarz solves the same equations: to a
+// residual of kTightTolerance it gives the lattice preconditioner's k to
+// 1e-6, on the disc cell and on the cell of pockets (a region behind a
+// thin wall, and one sealed that two blocks share, each whole in both
+// blocks' extended points: singular there but for the blocks' shift).
+TYPED_TEST(SteadySolverTest, SchwarzGivesTheSameKAsTheLattice) {
+  using Space = TypeParam;
+  for (const SceneConfig& scene : {disc_cell(true), testing::pocket_cell(true)}) {
+    double k[2];
+    for (int m = 0; m < 2; ++m) {
+      Simulation<2, Space> sim(scene);
+      SteadyOptions options;
+      options.tolerance = kTightTolerance;
+      options.dg_preconditioner = m == 0 ? DgPreconditioner::Lattice : DgPreconditioner::Schwarz;
+      const auto report = SteadySolver<2, Space>(sim, Space(), options, nullptr, nullptr).solve();
+      EXPECT_TRUE(report.converged) << "preconditioner " << m;
+      k[m] = sim.superficial_velocity()[0];
+    }
+    EXPECT_NEAR(k[1] / k[0], 1.0, 1e-6) << "lattice " << k[0] << ", schwarz " << k[1];
+  }
+}
+
 // A solve held to two linear iterations does not converge, and says so.
 TYPED_TEST(SteadySolverTest, CappedSolveIsNotConverged) {
   using Space = TypeParam;
@@ -960,6 +983,124 @@ TYPED_TEST(SteadySolverTest, StopAbandonsTheSolve) {
   EXPECT_EQ(report.linear_iterations, 1);
   EXPECT_GE(report.inner_iterations, 3);
   EXPECT_LE(report.inner_iterations, 5);
+}
+
+
+// lu_solve undoes LAPACK's getrf with its row interchanges.
+TEST(SchwarzPreconditioner, LuSolveUndoesGetrf) {
+  const int n = 4;
+  // Column-major; a zero leading entry forces a pivot.
+  std::vector<double> a{0, 2, 1, 3, 1, 0, 4, 1, 5, 1, 0, 2, 1, 3, 2, 0}, lu = a;
+  std::vector<int> pivots(n);
+  int info = 0;
+  Teuchos::LAPACK<int, double>().GETRF(n, n, lu.data(), n, pivots.data(), &info);
+  ASSERT_EQ(info, 0);
+  const std::vector<double> x{1.0, -2.0, 0.5, 3.0};
+  std::vector<double> w(n, 0.0);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) w[i] += a[i + j * n] * x[j];
+  lu_solve(n, lu.data(), pivots.data(), w.data());
+  for (int i = 0; i < n; ++i) EXPECT_NEAR(w[i], x[i], 1e-13) << i;
+}
+
+// Two coordinates of one residue modulo colour_modulus(n, least) are at
+// least `least` apart on the periodic axis of n points.
+TEST(SchwarzPreconditioner, ColourModulusKeepsOneResidueApartAcrossTheWrap) {
+  for (int least : {3, 13, 27})
+    for (int n = 1; n <= 120; ++n) {
+      const int m = colour_modulus(n, least);
+      ASSERT_GE(m, std::min(n, least));
+      ASSERT_LE(m, n);
+      for (int a = 0; a < n; ++a)
+        for (int b = a + m; b < n; b += m) EXPECT_GE(std::min(b - a, n - (b - a)), least) << n << " " << m;
+    }
+  EXPECT_EQ(colour_modulus(81, 27), 27);
+  EXPECT_EQ(colour_modulus(100, 27), 34);
+}
+
+// An operator on the fluid points of a periodic 2D lattice (a solid disc
+// cut out), coupling points up to 2 apart along each axis, not symmetric;
+// `within`: couple only points of the same block of `block` points a side.
+template <class Space>
+struct LatticeStencil {
+  using V = Kokkos::View<double*, typename Space::memory_space>;
+  int nx, ny, block;
+  bool within;
+  std::vector<double> fluid;
+  double coupling(int i, int j, int di, int dj) const {
+    const int k = (i + di + nx) % nx + nx * ((j + dj + ny) % ny);
+    if (fluid[k] == 0) return 0;
+    if (within && ((i + di + nx) % nx / block != i / block || (j + dj + ny) % ny / block != j / block)) return 0;
+    return -(1.0 + 0.3 * di + 0.1 * dj * dj) / (1 + std::abs(di) + std::abs(dj));
+  }
+  void operator()(const V& in, const V& out) const {
+    auto hin = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), in);
+    auto hout = Kokkos::create_mirror_view(out);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const int k = i + nx * j;
+        hout(k) = 0;
+        if (fluid[k] == 0) continue;
+        double sum = 12.0 * hin(k);
+        for (int dj = -2; dj <= 2; ++dj)
+          for (int di = -2; di <= 2; ++di)
+            if (di || dj) sum += coupling(i, j, di, dj) * hin((i + di + nx) % nx + nx * ((j + dj + ny) % ny));
+        hout(k) = sum;
+      }
+    Kokkos::deep_copy(out, hout);
+  }
+};
+
+// With one block holding the whole lattice, or blocks the operator does
+// not couple, the local solves are the operator's inverse: the probing
+// found every entry (none unmatched) and put it where it belongs. And the
+// coarse level, P^T A P over the blocks' connected parts, is exact on the
+// vectors constant on each part.
+TYPED_TEST(SteadySolverTest, SchwarzIsTheInverseWhereItsBlocksHoldTheOperator) {
+  using Space = TypeParam;
+  using V = Kokkos::View<double*, typename Space::memory_space>;
+  const int nx = 24, ny = 20;
+  const double dx = 1.0 / nx;
+  Kokkos::View<double* [2], typename Space::memory_space> x("x", nx * ny);
+  V fluid("fluid", nx * ny);
+  auto hx = Kokkos::create_mirror_view(x);
+  auto hf = Kokkos::create_mirror_view(fluid);
+  LatticeStencil<Space> stencil{nx, ny, 4, false, std::vector<double>(nx * ny)};
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int k = i + nx * j;
+      hx(k, 0) = (i + 0.5) * dx, hx(k, 1) = (j + 0.5) * dx;
+      hf(k) = stencil.fluid[k] = std::hypot(i + 0.5 - 12, j + 0.5 - 10) > 4.5 ? 1.0 : 0.0;
+    }
+  Kokkos::deep_copy(x, hx);
+  Kokkos::deep_copy(fluid, hf);
+  const V p = random_vector<Space>(nx * ny, 5, fluid, 1);
+  V r("r", nx * ny), z("z", nx * ny);
+  KrylovVectors<Space> ops{Space(), Communicator()};
+  for (bool within : {false, true}) {
+    stencil.within = within;
+    const int block = within ? 4 : 32;
+    SchwarzPreconditioner<2, Space> schwarz(Space(), Communicator(), x, fluid, nx * ny, {nx, ny}, dx, block, 0, 2,
+                                            0.0, stencil);
+    EXPECT_EQ(schwarz.unmatched(), 0);
+    EXPECT_EQ(schwarz.blocks(), within ? 28 : 1);  // of 6 x 5, two inside the disc
+    stencil(p, r);
+    schwarz.apply(r, z);
+    ops.update(1.0, p, -1.0, z);
+    EXPECT_LT(ops.norm(z), 1e-12 * ops.norm(p)) << (within ? "blocks of 4" : "one block");
+    // The coarse level alone inverts A on the vectors constant on each
+    // aggregate: P^T A P was summed from the probes.
+    ASSERT_TRUE(schwarz.two_level());
+    EXPECT_EQ(schwarz.aggregates(), within ? 28 : 1);
+    auto hp = Kokkos::create_mirror_view(z);
+    for (int k = 0, f = 0; k < nx * ny; ++k) hp(k) = hf(k) ? 1.0 + 0.37 * schwarz.aggregate()[f++] : 0.0;
+    Kokkos::deep_copy(z, hp);
+    stencil(z, r);
+    V coarse("coarse", nx * ny);
+    schwarz.solve_coarse(r, coarse);
+    ops.update(1.0, z, -1.0, coarse);
+    EXPECT_LT(ops.norm(coarse), 1e-12 * ops.norm(z)) << (within ? "blocks of 4" : "one block");
+  }
 }
 
 }  // namespace

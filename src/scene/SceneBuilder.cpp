@@ -716,6 +716,9 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.solver.inner_tolerance = solver.get<double>("Inner Tolerance");
   scene.solver.max_inner_iterations = solver.get<int>("Max Inner Iterations");
   scene.solver.raised_inner_iterations = solver.get<int>("Raised Inner Iterations");
+  scene.solver.dg_preconditioner = solver.get<std::string>("DG Preconditioner") == "schwarz"
+                                       ? DgPreconditioner::Schwarz
+                                       : DgPreconditioner::Lattice;
   if (scene.steady_solver) {
     // What the steady equations are: those of particles that stay where they are.
     if (scene.particle_motion != ParticleMotion::Fixed)
@@ -729,6 +732,10 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
       if (scene.wall_pressure != WallPressure::Extrapolated)
         fail("Solver/Method = steady needs Discretization/Wall Pressure = extrapolated: with 'continuity' the "
              "boundary particles' densities are unknowns of their own that keep changing while the fluid flows");
+    if (scene.solver.dg_preconditioner == DgPreconditioner::Schwarz && scene.dimension != 2)
+      fail("Solver/DG Preconditioner = schwarz is for 2D scenes: in 3D its set-up would take 19,683 products of "
+           "DG at h = dx (one per colour, 27 lattice points apart along each axis) and its factors up to 47 kB a "
+           "fluid particle; use 'lattice'");
   }
 
   const auto& output = list.sublist("Output");

@@ -4,6 +4,21 @@
 
 namespace poresph {
 
+// What preconditions the inner solves of DG (Solver/DG Preconditioner):
+// the wide lattice Laplacian's cycle, or local solves on blocks.
+enum class DgPreconditioner { Lattice, Schwarz };
+// Its blocks: 8 points a side, each extended by 2. On a 2D blobs image
+// these took the fewest outer iterations of blocks of 4 or 8 and overlaps
+// of 1 or 2 (docs/steady_solver.md, "What fails on a blobs image").
+constexpr int kSchwarzBlock = 8, kSchwarzOverlap = 2;
+// The doubles its factors take per lattice point at most (all fluid): an
+// extended block's points squared over the block's own.
+inline double schwarz_factor_values(int dim) {
+  double extended = 1, own = 1;
+  for (int d = 0; d < dim; ++d) extended *= kSchwarzBlock + 2 * kSchwarzOverlap, own *= kSchwarzBlock;
+  return extended * extended / own;
+}
+
 struct SteadyOptions {
   double tolerance = 1e-4;         // Solver/Tolerance: on ||F - e (e . F)|| / ||F at rest||
   // Solver/Permeability Tolerance: the last Newton step must also have moved
@@ -17,6 +32,7 @@ struct SteadyOptions {
   double inner_tolerance = 0;  // Solver/Inner Tolerance; 0: by the dimension (SteadySolver)
   int max_inner_iterations = 100;      // the inner solves' cap to start with
   int raised_inner_iterations = 1600;  // what a stalled linear solve may raise it to (x4 at a time)
+  DgPreconditioner dg_preconditioner = DgPreconditioner::Lattice;
 };
 
 // The doubles the steady solver's vectors take for nv velocity and nq

@@ -40,6 +40,7 @@
 #include "solver/Fgmres.hpp"
 #include "solver/FluidRegions.hpp"
 #include "solver/LatticePreconditioner.hpp"
+#include "solver/SchwarzPreconditioner.hpp"
 #include "solver/SteadyOptions.hpp"
 #include "solver/SteadySystem.hpp"
 
@@ -110,6 +111,13 @@ class SteadySolver {
   // The DG preconditioner's sharpening (solver/LatticeSharpening.hpp): the
   // beta that measured fewest inner iterations, 0 to 8 tried (docs/steady_solver.md).
   static constexpr double kDgSharpening = Dim == 2 ? 2.0 : 4.0;
+  // Solver/DG Preconditioner = schwarz: the blocks of SteadyOptions.hpp,
+  // each solved exactly with 1e-4 of its largest diagonal entry added to
+  // its diagonal. A narrow passage's weak mode that two blocks cut
+  // differently is amplified differently by each; the shift bounds that.
+  // Of 1e-8, 1e-4 and 1e-3 on three 2D blobs images, 1e-4 took the least
+  // time on the largest, the others within 0.5 s (docs/steady_solver.md).
+  static constexpr double kSchwarzShift = 1e-4;
   // The inner solves' tolerance where Solver/Inner Tolerance = 0. In 2D
   // DG and its preconditioner differ by at most 50 between the corners of
   // the zone, so a DG solve's residual follows its error, and a looser
@@ -284,7 +292,8 @@ class SteadySolver {
     // The vectors with the Krylov bases as large as they grew, the gathered
     // lattices, and the simulation's linear products (their sites and slots).
     const double vectors = steady_vector_values(outer_basis_, inner_basis_, nv, nq, borders_here_);
-    const double lattices = wide_.values_held() + compact_.values_held() + sim_.linear_product_values();
+    const double lattices =
+        wide_.values_held() + compact_.values_held() + schwarz_.values_held() + sim_.linear_product_values();
     const double bytes = sim_.communicator().sum(8.0 * (vectors + lattices));
     const double particles = static_cast<double>(sim_.fluid_particles() + sim_.boundary_particles());
     report.bytes_per_particle = bytes / particles;
@@ -529,9 +538,19 @@ class SteadySolver {
     std::array<int, Dim> lattice;
     const double dx = sim_.scene().particle_spacing;
     for (int d = 0; d < Dim; ++d) lattice[d] = static_cast<int>(std::lround(sim_.scene().cell_size[d] / dx));
-    wide_ = LatticePreconditioner<Dim, ExecSpace>(space_, sim_.communicator(), Px, fluid, nq, lattice, dx, 2);
+    if (options_.dg_preconditioner == DgPreconditioner::Schwarz) {
+      // DG couples points through two pair loops, each reaching twice the
+      // kernel's support (3h) where a wall's pressure or velocity is
+      // extrapolated from the fluid.
+      const int reach = static_cast<int>(std::ceil(12.0 * sim_.scene().smoothing_length_ratio - 1e-9));
+      schwarz_ = SchwarzPreconditioner<Dim, ExecSpace>(
+          space_, sim_.communicator(), Px, fluid, nq, lattice, dx, kSchwarzBlock, kSchwarzOverlap, reach,
+          kSchwarzShift, [&](const View& in, const View& out) { apply_dg(system, in, out); });
+    } else {
+      wide_ = LatticePreconditioner<Dim, ExecSpace>(space_, sim_.communicator(), Px, fluid, nq, lattice, dx, 2);
+      wide_.set_sharpening(kDgSharpening);
+    }
     compact_ = LatticePreconditioner<Dim, ExecSpace>(space_, sim_.communicator(), Px, fluid, nq, lattice, dx, 1);
-    wide_.set_sharpening(kDgSharpening);
     Kokkos::parallel_for(
         label_start, Kokkos::RangePolicy<ExecSpace>(space_, 0, nq),
         KOKKOS_LAMBDA(int i) { x(i) = fluid(i) * math::cos(6.283185307179586 * Px(i, 0) / length); });
@@ -663,6 +682,10 @@ class SteadySolver {
   // the compact one per component for the velocity block (none and Jacobi
   // if a scale could not be measured: no fluid on this smooth mode).
   void precondition_dg(const View& in, const View& out) const {
+    if (schwarz_.available()) {
+      schwarz_.apply(in, out);
+      return;
+    }
     if (!wide_.available() || wide_scale_ == 0) {
       Kokkos::deep_copy(space_, out, in);
       space_.fence();
@@ -805,6 +828,7 @@ class SteadySolver {
   typename View::HostMirror border_weights_host_;
   double dg_shift_ = 0;
   LatticePreconditioner<Dim, ExecSpace> wide_, compact_;
+  SchwarzPreconditioner<Dim, ExecSpace> schwarz_;  // DG's, with Solver/DG Preconditioner = schwarz
   double wide_scale_ = 0, compact_scale_ = 0;
   long long inner_iterations_ = 0;
   int inner_cap_ = 0;                               // what an inner solve may take now
