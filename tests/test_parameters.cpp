@@ -177,12 +177,13 @@ TEST(Parameters, OuterAndInnerKrylovRestartsAreApart) {
   EXPECT_NE(message.find("Inner Krylov Restart"), std::string::npos) << message;
 }
 
-// Solver/DG Preconditioner: 'lattice' by default, 'schwarz' taken in 2D
-// and refused in 3D (its set-up and factors are too dear there), by name.
+// Solver/DG Preconditioner: 'auto' by default, 'schwarz' taken in 2D and
+// refused in 3D (its set-up and factors are too dear there), by name;
+// 'auto' taken in 3D (it never switches there).
 TEST(Parameters, SchwarzDgPreconditionerIsFor2D) {
   auto list = minimal_scene();
   validate_parameters(list);
-  EXPECT_EQ(scene_from_parameters(list).solver.dg_preconditioner, DgPreconditioner::Lattice);
+  EXPECT_EQ(scene_from_parameters(list).solver.dg_preconditioner, DgPreconditioner::Auto);
   apply_override(list, "Solver/Method=steady");
   apply_override(list, "Solver/DG Preconditioner=schwarz");
   validate_parameters(list);
@@ -192,6 +193,8 @@ TEST(Parameters, SchwarzDgPreconditionerIsFor2D) {
   validate_parameters(list);
   const auto message = error_of([&] { scene_from_parameters(list); });
   EXPECT_NE(message.find("Solver/DG Preconditioner = schwarz is for 2D"), std::string::npos) << message;
+  apply_override(list, "Solver/DG Preconditioner=auto");
+  EXPECT_EQ(scene_from_parameters(list).solver.dg_preconditioner, DgPreconditioner::Auto);
   auto misspelt = minimal_scene();
   misspelt.sublist("Solver").set("DG Preconditioner", std::string("ras"));
   EXPECT_NE(error_of([&] { validate_parameters(misspelt); }).find("'ras' is not one of"), std::string::npos);

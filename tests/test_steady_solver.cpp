@@ -824,18 +824,21 @@ TYPED_TEST(SteadySolverTest, LscWeighsTheRowsNextToWalls) {
 
 // A solve of a cell of one grain (a disc, or in 3D a sphere, of radius a
 // quarter of the cell) with the inner solves asked for `inner_tolerance`,
-// the outer restart `restart` and the inner cap `inner_cap` at the start:
-// its report, the superficial velocity along x and the highest inner cap
-// the progress line showed.
+// the outer restart `restart`, the inner cap `inner_cap` at the start and
+// the DG solves preconditioned by `dg`: its report, the superficial
+// velocity along x, the highest inner cap the progress line showed, and
+// the first linear iteration it showed the DG solves by blocks at (0: never).
 struct OneGrainSolve {
   SteadyReport report;
   double flow = 0;
   int highest_inner_cap = 0;
+  long long blocks_from = 0;
 };
 
 template <int Dim, class Space>
 OneGrainSolve solve_one_grain(double inner_tolerance, int restart = SteadyOptions().restart,
-                              int inner_cap = SteadyOptions().max_inner_iterations) {
+                              int inner_cap = SteadyOptions().max_inner_iterations,
+                              DgPreconditioner dg = DgPreconditioner::Lattice) {
   SceneConfig scene = Dim == 2 ? disc_cell(true) : testing::periodic_box(3, 10);
   if (Dim == 3) {
     scene.grains = grains_from_list({0.5, 0.5, 0.5, 0.25}, 3);
@@ -848,9 +851,11 @@ OneGrainSolve solve_one_grain(double inner_tolerance, int restart = SteadyOption
   options.inner_tolerance = inner_tolerance;
   options.restart = restart;
   options.max_inner_iterations = inner_cap;
+  options.dg_preconditioner = dg;
   OneGrainSolve solve;
   auto progress = [&solve](const SteadyProgress& p) {
     solve.highest_inner_cap = std::max(solve.highest_inner_cap, p.inner_cap);
+    if (p.dg_by_blocks && solve.blocks_from == 0) solve.blocks_from = p.linear_iterations;
   };
   solve.report = SteadySolver<Dim, Space>(sim, Space(), options, nullptr, progress).solve();
   solve.flow = sim.superficial_velocity()[0];
@@ -950,6 +955,31 @@ TYPED_TEST(SteadySolverTest, SchwarzGivesTheSameKAsTheLattice) {
     }
     EXPECT_NEAR(k[1] / k[0], 1.0, 1e-6) << "lattice " << k[0] << ", schwarz " << k[1];
   }
+}
+
+// Solver/DG Preconditioner = auto: where the DG solves stall at their cap
+// (capped at one iteration, a restart of 2), the first stall switches them
+// to local solves on blocks instead of raising the cap, and the solve
+// converges to the lattice's k; where they do not stall (the defaults), it
+// is the lattice's solve to the bit.
+TYPED_TEST(SteadySolverTest, AutoSwitchesToBlocksWhereCappedDgSolvesStall) {
+  using Space = TypeParam;
+  const auto lattice = solve_one_grain<2, Space>(0.0, 2, 1, DgPreconditioner::Lattice);
+  const auto automatic = solve_one_grain<2, Space>(0.0, 2, 1, DgPreconditioner::Auto);
+  EXPECT_TRUE(lattice.report.converged);
+  EXPECT_FALSE(lattice.report.dg_by_blocks);
+  EXPECT_GT(lattice.highest_inner_cap, 1);
+  EXPECT_TRUE(automatic.report.converged);
+  EXPECT_TRUE(automatic.report.dg_by_blocks);
+  EXPECT_GT(automatic.blocks_from, 0);
+  EXPECT_LE(automatic.blocks_from, 4);  // the first cycle of 2 that stalls, looked at after 2 iterations
+  EXPECT_NEAR(automatic.flow / lattice.flow, 1.0, 1e-3);
+  const auto plain = solve_one_grain<2, Space>(0.0);
+  const auto plain_auto = solve_one_grain<2, Space>(0.0, SteadyOptions().restart,
+                                                    SteadyOptions().max_inner_iterations, DgPreconditioner::Auto);
+  EXPECT_FALSE(plain_auto.report.dg_by_blocks);
+  EXPECT_EQ(plain_auto.report.inner_iterations, plain.report.inner_iterations);
+  EXPECT_EQ(plain_auto.flow, plain.flow);
 }
 
 // A solve held to two linear iterations does not converge, and says so.

@@ -241,7 +241,8 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
     const int inner_restart = std::max(1, std::min(scene.solver.inner_restart, inner_cap));
     const double vectors = steady_vector_values(2.0 * restart + 1, 2.0 * inner_restart + 1, D * owned, owned);
     steady_per_process = 8.0 * (vectors + 21.0 * static_cast<double>(e.lattice_points));
-    // Solver/DG Preconditioner = schwarz: the blocks' factors, shared out among the processes.
+    // Solver/DG Preconditioner = schwarz: the blocks' factors, shared out
+    // among the processes ('auto' switches to them only where they fit).
     if (scene.solver.dg_preconditioner == DgPreconditioner::Schwarz)
       steady_per_process += 8.0 * owned * schwarz_factor_values(D);
     e.bytes_per_process += steady_per_process;

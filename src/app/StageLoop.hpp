@@ -244,6 +244,7 @@ class StageLoop {
       if (std::isfinite(eta)) n += std::snprintf(text + n, sizeof text - n, "  step ETA %.0f s", eta);
       if (s.inner_cap > scene_.solver.max_inner_iterations)
         n += std::snprintf(text + n, sizeof text - n, "  inner cap %d", s.inner_cap);
+      if (s.dg_by_blocks) n += std::snprintf(text + n, sizeof text - n, "  DG by blocks");
       if (measures_permeability() && force > 0)
         std::snprintf(text + n, sizeof text - n, "  k = %.5e m^2",
                       scene_.kinematic_viscosity * sim.superficial_velocity()[axis_] / force);

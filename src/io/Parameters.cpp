@@ -498,15 +498,16 @@ RCP<ParameterList> make_valid_parameters() {
           "not halved its residual over Krylov Restart iterations while most of its DG solves ended at the cap. "
           "At or below Max Inner Iterations: never raised.",
           int_in(1, 1 << 20));
-    s.set("DG Preconditioner", std::string("lattice"),
+    s.set("DG Preconditioner", std::string("auto"),
           "'steady': what preconditions the inner solves of the pressure operator DG. 'lattice': a cycle of the "
           "wide lattice Laplacian. 'schwarz' (2D only): exact solves on blocks of 8 x 8 lattice points extended by 2 "
-          "a side, with a coarse level of one unknown per block's connected part. Measured: 6 to 330 times faster on "
-          "three 2D blobs images whose DG solves raise their cap with 'lattice', 1.2 to 9 times slower on the "
-          "grain scenes of input/, and not converging where passages are one particle wide; a set-up of 729 or "
-          "more products of DG, and up to 2.6 kB a fluid particle more (docs/steady_solver.md, 'Local solves for "
-          "DG').",
-          one_of({"lattice", "schwarz"}));
+          "a side, with a coarse level of one unknown per block's connected part; a set-up of 729 or more products "
+          "of DG, and up to 2.6 kB a fluid particle more. 'auto': 'lattice', switched to 'schwarz' in 2D where the "
+          "lattice cycle's DG solves stall at their cap (instead of raising it; see Raised Inner Iterations). "
+          "Measured: on the grain scenes of input/ auto never switches; on three 2D blobs images it took 0.02 to "
+          "0.5 of the lattice's time and schwarz alone 0.003 to 0.17; where passages are one particle wide none "
+          "converges (docs/steady_solver.md, 'Local solves for DG').",
+          one_of({"lattice", "schwarz", "auto"}));
   }
   {
     auto& s = list->sublist("Parallel", false, "How the cell is divided among MPI processes.");

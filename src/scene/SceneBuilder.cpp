@@ -716,9 +716,10 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.solver.inner_tolerance = solver.get<double>("Inner Tolerance");
   scene.solver.max_inner_iterations = solver.get<int>("Max Inner Iterations");
   scene.solver.raised_inner_iterations = solver.get<int>("Raised Inner Iterations");
-  scene.solver.dg_preconditioner = solver.get<std::string>("DG Preconditioner") == "schwarz"
-                                       ? DgPreconditioner::Schwarz
-                                       : DgPreconditioner::Lattice;
+  const std::string dg_preconditioner = solver.get<std::string>("DG Preconditioner");
+  scene.solver.dg_preconditioner = dg_preconditioner == "schwarz" ? DgPreconditioner::Schwarz
+                                   : dg_preconditioner == "auto"  ? DgPreconditioner::Auto
+                                                                  : DgPreconditioner::Lattice;
   if (scene.steady_solver) {
     // What the steady equations are: those of particles that stay where they are.
     if (scene.particle_motion != ParticleMotion::Fixed)

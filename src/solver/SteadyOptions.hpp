@@ -5,8 +5,9 @@
 namespace poresph {
 
 // What preconditions the inner solves of DG (Solver/DG Preconditioner):
-// the wide lattice Laplacian's cycle, or local solves on blocks.
-enum class DgPreconditioner { Lattice, Schwarz };
+// the wide lattice Laplacian's cycle, local solves on blocks, or the cycle
+// until the DG solves stall at their cap, then the blocks (2D).
+enum class DgPreconditioner { Lattice, Schwarz, Auto };
 // Its blocks: 8 points a side, each extended by 2. On a 2D blobs image
 // these took the fewest outer iterations of blocks of 4 or 8 and overlaps
 // of 1 or 2 (docs/steady_solver.md, "What fails on a blobs image").
@@ -32,7 +33,7 @@ struct SteadyOptions {
   double inner_tolerance = 0;  // Solver/Inner Tolerance; 0: by the dimension (SteadySolver)
   int max_inner_iterations = 100;      // the inner solves' cap to start with
   int raised_inner_iterations = 1600;  // what a stalled linear solve may raise it to (x4 at a time)
-  DgPreconditioner dg_preconditioner = DgPreconditioner::Lattice;
+  DgPreconditioner dg_preconditioner = DgPreconditioner::Auto;
 };
 
 // The doubles the steady solver's vectors take for nv velocity and nq

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "core/Math.hpp"
+#include "core/MemoryAvailable.hpp"
 #include "core/Vec.hpp"
 #include "solver/Fgmres.hpp"
 #include "solver/FluidRegions.hpp"
@@ -66,6 +67,7 @@ struct SteadyReport {
   double setup_seconds = 0, solve_seconds = 0;
   double bytes_per_particle = 0;  // what the solver allocates, over the particles (fluid and boundary)
   int fluid_regions = 0;          // the borders: regions of the fluid that keep their own mass
+  bool dg_by_blocks = false;      // the DG solves ended preconditioned by local solves on blocks (Schwarz)
 };
 
 // Where a solve stands, for the progress line.
@@ -76,6 +78,7 @@ struct SteadyProgress {
   double linear_residual = 0;   // of the Newton step being solved
   double linear_tolerance = 0;  // what that step's linear solve is asked for: it ends at residual x this
   int inner_cap = 0;            // the inner solves' cap now (raised from Solver/Max Inner Iterations)
+  bool dg_by_blocks = false;    // the DG solves preconditioned by local solves on blocks now
 };
 
 // Per region of the fluid (FluidRegions::of), the sum of q over its particles, in one pass.
@@ -224,9 +227,11 @@ class SteadySolver {
         cannot_settle = cannot_settle || (settling && cycle_without_halving(watch, iterations, linear_residual) &&
                                           inner_cap_ >= options_.raised_inner_iterations);
         watch_inner_cap(watch, iterations, linear_residual);
+        if (switch_to_schwarz_) build_schwarz(system), switch_to_schwarz_ = false;
         status.linear_iterations = report.linear_iterations + iterations;
         status.linear_residual = linear_residual;
         status.inner_cap = inner_cap_;
+        status.dg_by_blocks = schwarz_.available();
         if (progress_) progress_(status);
         return cannot_settle || (should_stop_ && should_stop_());
       };
@@ -286,6 +291,7 @@ class SteadySolver {
     report.converged = converged() && !report.interrupted;
     report.inner_iterations = inner_iterations_;
     report.inner_tolerance = step_inner_tolerance_;
+    report.dg_by_blocks = schwarz_.available();
     report.rate_evaluations = system.rate_evaluations();
     report.partial_rate_evaluations = system.partial_rate_evaluations();
     report.solve_seconds = seconds_since(start) - report.setup_seconds;
@@ -353,11 +359,26 @@ class SteadySolver {
     const long long solves = dg_solves_ - watch.dg_solves, capped = capped_dg_solves_ - watch.capped_dg_solves;
     const bool stalled = cycle_without_halving(watch, iteration, residual);
     const bool cap_binds = solves > 0 && 2 * capped >= solves && inner_cap_ < options_.raised_inner_iterations;
-    if (stalled && cap_binds)
+    if (stalled && cap_binds && switch_to_schwarz_allowed())
+      switch_to_schwarz_ = true;
+    else if (stalled && cap_binds)
       inner_cap_ = static_cast<int>(std::min<long long>(options_.raised_inner_iterations, 4LL * inner_cap_));
     else if (stalled && inner_tolerance() > kSettlingInnerTolerance)
       step_inner_tolerance_ = std::max(kSettlingInnerTolerance, 0.2 * step_inner_tolerance_);
     watch = {iteration, residual, dg_solves_, capped_dg_solves_};
+  }
+
+  // Solver/DG Preconditioner = auto in 2D, before the switch: a stall with
+  // capped DG solves switches the DG solves to local solves on blocks
+  // instead of raising their cap (docs/steady_solver.md, "Local solves for
+  // DG"), where the blocks' factors fit in half of what every process can
+  // still allocate (at most schwarz_factor_values a fluid particle; the
+  // memory check before the run counts them for 'schwarz' only).
+  bool switch_to_schwarz_allowed() const {
+    if (Dim != 2 || options_.dg_preconditioner != DgPreconditioner::Auto || schwarz_.available()) return false;
+    const auto& comm = sim_.communicator();
+    const double factors = 8.0 * schwarz_factor_values(Dim) * static_cast<double>(sim_.fluid_particles()) / comm.size();
+    return !comm.any(!(factors < 0.5 * memory_available_bytes()));
   }
 
   static double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -539,13 +560,7 @@ class SteadySolver {
     const double dx = sim_.scene().particle_spacing;
     for (int d = 0; d < Dim; ++d) lattice[d] = static_cast<int>(std::lround(sim_.scene().cell_size[d] / dx));
     if (options_.dg_preconditioner == DgPreconditioner::Schwarz) {
-      // DG couples points through two pair loops, each reaching twice the
-      // kernel's support (3h) where a wall's pressure or velocity is
-      // extrapolated from the fluid.
-      const int reach = static_cast<int>(std::ceil(12.0 * sim_.scene().smoothing_length_ratio - 1e-9));
-      schwarz_ = SchwarzPreconditioner<Dim, ExecSpace>(
-          space_, sim_.communicator(), Px, fluid, nq, lattice, dx, kSchwarzBlock, kSchwarzOverlap, reach,
-          kSchwarzShift, [&](const View& in, const View& out) { apply_dg(system, in, out); });
+      build_schwarz(system);
     } else {
       wide_ = LatticePreconditioner<Dim, ExecSpace>(space_, sim_.communicator(), Px, fluid, nq, lattice, dx, 2);
       wide_.set_sharpening(kDgSharpening);
@@ -566,6 +581,22 @@ class SteadySolver {
       compact_scale_ = ops.dot(x, work_q_) / smooth;
     }
     if (wide_.available()) measure_pattern_weights(system, x, y);
+  }
+
+  // Restricted additive Schwarz for the DG solves (Solver/DG Preconditioner
+  // = schwarz, or auto once the lattice cycle's DG solves stall). DG couples
+  // points through two pair loops, each reaching twice the kernel's support
+  // (3h) where a wall's pressure or velocity is extrapolated from the fluid.
+  void build_schwarz(System& system) {
+    std::array<int, Dim> lattice;
+    const double dx = sim_.scene().particle_spacing;
+    for (int d = 0; d < Dim; ++d) lattice[d] = static_cast<int>(std::lround(sim_.scene().cell_size[d] / dx));
+    const int reach = static_cast<int>(std::ceil(12.0 * sim_.scene().smoothing_length_ratio - 1e-9));
+    schwarz_ = SchwarzPreconditioner<Dim, ExecSpace>(
+        space_, sim_.communicator(), sim_.particles().x, system.fluid_mask(), system.owned(), lattice, dx,
+        kSchwarzBlock, kSchwarzOverlap, reach, kSchwarzShift,
+        [this, &system](const View& in, const View& out) { apply_dg(system, in, out); });
+    wide_ = LatticePreconditioner<Dim, ExecSpace>();  // replaced, where it was built
   }
 
   // LSC's Q^-1: diag(A)^-1 with each velocity row weighed by 1 / (1 + t_i),
@@ -828,7 +859,8 @@ class SteadySolver {
   typename View::HostMirror border_weights_host_;
   double dg_shift_ = 0;
   LatticePreconditioner<Dim, ExecSpace> wide_, compact_;
-  SchwarzPreconditioner<Dim, ExecSpace> schwarz_;  // DG's, with Solver/DG Preconditioner = schwarz
+  SchwarzPreconditioner<Dim, ExecSpace> schwarz_;  // DG's, with Solver/DG Preconditioner = schwarz (or auto, switched)
+  bool switch_to_schwarz_ = false;                 // asked for by watch_inner_cap, done after the iteration
   double wide_scale_ = 0, compact_scale_ = 0;
   long long inner_iterations_ = 0;
   int inner_cap_ = 0;                               // what an inner solve may take now
