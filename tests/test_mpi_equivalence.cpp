@@ -268,7 +268,17 @@ TEST(MpiEquivalence, FluidRegionsAndSteadySolveOfPockets) {
 // The points per axis of a 2D scene's lattice.
 std::array<int, 2> lattice_of(const SceneConfig& scene) {
   const double dx = scene.particle_spacing;
-  return {static_cast<int>(std::lround(scene.cell_size[0] / dx)), static_cast<int>(std::lround(scene.cell_size[1] / dx))};
+  return {static_cast<int>(std::lround(scene.cell_size[0] / dx)),
+          static_cast<int>(std::lround(scene.cell_size[1] / dx))};
+}
+
+// A vector to precondition: smooth, and rough by id (the same on any number of processes).
+template <class Particles, class Values>
+void fill_test_vector(const Particles& P, const Values& fluid, const Values& r) {
+  for (int i = 0; i < P.owned; ++i) {
+    const double rough = 1e-3 * static_cast<double>(P.id(i) % 17);
+    r(i) = fluid(i) * (std::sin(7.0 * P.x(i, 0)) + std::cos(3.0 * P.x(i, 1)) + rough);
+  }
 }
 
 // Each fluid particle's value of z, by id, gathered on rank 0.
@@ -307,8 +317,7 @@ std::map<long long, double> schwarz_applied(const SceneConfig& scene, const Comm
   using View = System::View;
   const View fluid = system.fluid_mask();
   View r("r", owned), z("z", owned), velocity("velocity", owned * 2);
-  for (int i = 0; i < owned; ++i)
-    r(i) = fluid(i) * (std::sin(7.0 * P.x(i, 0)) + std::cos(3.0 * P.x(i, 1)) + 1e-3 * static_cast<double>(P.id(i) % 17));
+  fill_test_vector(P, fluid, r);
   auto dg = [&](const View& in, const View& out) {
     system.apply(nullptr, &in, velocity, View(), System::Accuracy::Forward, System::RateTerms::Pressure);
     system.apply(&velocity, nullptr, View(), out, System::Accuracy::Forward, System::RateTerms::Continuity);
@@ -353,10 +362,8 @@ std::map<long long, double> preconditioned(const SceneConfig& scene, const Commu
   const int owned = P.owned;
   using View = Kokkos::View<double*, Kokkos::HostSpace>;
   View fluid("fluid", owned), r("r", owned), z("z", owned);
-  for (int i = 0; i < owned; ++i) {
-    fluid(i) = P.kind(i) == kFluid ? 1.0 : 0.0;
-    r(i) = fluid(i) * (std::sin(7.0 * P.x(i, 0)) + std::cos(3.0 * P.x(i, 1)) + 1e-3 * static_cast<double>(P.id(i) % 17));
-  }
+  for (int i = 0; i < owned; ++i) fluid(i) = P.kind(i) == kFluid ? 1.0 : 0.0;
+  fill_test_vector(P, fluid, r);
   LatticePreconditioner<2, Kokkos::Serial> wide(Kokkos::Serial(), comm, P.x, fluid, owned, lattice_of(scene),
                                                 scene.particle_spacing, 2);
   wide.set_pattern_weights({1.0, 0.8, 0.6, 0.4});

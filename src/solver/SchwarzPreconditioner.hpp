@@ -3,7 +3,10 @@
 // fluid particles of a fixed-particle scene: the lattice cut into blocks of
 // `block` points a side, each extended by `overlap` points a side; the
 // operator restricted to an extended block's fluid points and solved there
-// by dense LU; each block's solution kept on its own points. The steady
+// by dense LU; each block's solution kept on its own points. Two levels: a
+// coarse solve first, one unknown per connected part of a block's own fluid
+// points with the Galerkin operator P^T A P, and the local solves of the
+// residual it leaves (one product of the operator an application). The steady
 // solver's DG has weak modes in passages one or two particles wide that are
 // local, within about 12 spacings, and that a lattice Laplacian's cycle does
 // not resolve (docs/steady_solver.md, "What fails on a blobs image").
@@ -76,7 +79,8 @@ class SchwarzPreconditioner {
   // x: positions of the owned particles; fluid: 1 for a fluid particle, 0
   // else; lattice: points per axis of the cell at spacing dx. apply(in, out):
   // the operator on vectors of the owned particles, coupling no two points
-  // more than `reach` spacings apart along an axis. Each local block, and
+  // more than `reach` spacings apart along an axis, kept for the coarse
+  // level's residual (it must stay valid while this is applied). Each local block, and
   // the coarse operator, gets `shift` times its largest diagonal entry added
   // to its diagonal: a closed pocket's block is singular, and so is the
   // coarse operator on each region's constant where the operator is.
@@ -371,7 +375,8 @@ class SchwarzPreconditioner {
           continue;
         }
         if (!coarse_.empty()) coarse_[aggregate_[offset_ + k] + aggregate_[g] * aggregates_] += value;
-        if (share_a_block(own_coordinates[k], column)) entries.push_back({offset_ + static_cast<long long>(k), g, value});
+        if (share_a_block(own_coordinates[k], column))
+          entries.push_back({offset_ + static_cast<long long>(k), g, value});
       }
     }
     unmatched_ = comm_.sum(unmatched_);
@@ -383,7 +388,8 @@ class SchwarzPreconditioner {
     for (int n : counts) total += n;
     std::vector<long long> rows(count), columns(count), all_rows(total), all_columns(total);
     std::vector<double> values(count), all_values(total);
-    for (int e = 0; e < count; ++e) rows[e] = entries[e].row, columns[e] = entries[e].column, values[e] = entries[e].value;
+    for (int e = 0; e < count; ++e)
+      rows[e] = entries[e].row, columns[e] = entries[e].column, values[e] = entries[e].value;
     comm_.all_gather(rows.data(), counts, all_rows.data());
     comm_.all_gather(columns.data(), counts, all_columns.data());
     comm_.all_gather(values.data(), counts, all_values.data());

@@ -511,6 +511,9 @@ class SteadySolver {
   }
 
   void setup_preconditioner(System& system) {
+    // Local solves from an earlier solve() took that solve's system: afresh
+    // for this one ('schwarz'), or once this one stalls ('auto').
+    schwarz_ = SchwarzPreconditioner<Dim, ExecSpace>();
     const int nv = system.owned() * Dim, nq = system.owned();
     diagonal_inverse_ = system.velocity_diagonal(kForward, kVelocity);
     const auto inverse = diagonal_inverse_;
