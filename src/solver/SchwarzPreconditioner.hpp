@@ -130,9 +130,8 @@ class SchwarzPreconditioner {
   // Rows a probe changed with no point of its colour within reach: 0 unless
   // the operator reaches further than it was said to.
   long long unmatched() const { return unmatched_; }
-  // The blocks this process solves, and the most fluid points one holds.
+  // The blocks this process solves.
   int blocks() const { return static_cast<int>(block_start_host_.size()) - 1; }
-  int largest_block() const { return largest_; }
   // The coarse level's aggregates, and per fluid point (in the gathered
   // order: process by process, each in its particles' order) its own;
   // whether the coarse level is used.
@@ -140,8 +139,9 @@ class SchwarzPreconditioner {
   const std::vector<int>& aggregate() const { return aggregate_; }
   bool two_level() const { return !coarse_lu_.empty(); }
   // What this process holds for it, in doubles (for the memory report): the
-  // factors, per member its point, pivot and whether it is the block's own
-  // (about 2 doubles), and the gathered vector and its result.
+  // blocks' and the coarse level's factors, per member its point, pivot and
+  // whether it is the block's own (about 2 doubles), per fluid point its
+  // aggregate, and the gathered vector and its result.
   double values_held() const {
     return static_cast<double>(factors_.extent(0)) + static_cast<double>(coarse_lu_.size()) +
            static_cast<double>(aggregate_.size()) + 2.0 * static_cast<double>(members_.extent(0)) +
@@ -259,8 +259,7 @@ class SchwarzPreconditioner {
 
   // Along each axis, the blocks whose extended range holds coordinate c
   // (within `overlap` of the block's own points, periodically; a block whose
-  // extension would wrap onto itself holds the whole axis), and per block
-  // index its own range.
+  // extension would wrap onto itself holds the whole axis).
   void axis_blocks(int block, int overlap) {
     block_ = block;
     for (int d = 0; d < Dim; ++d) {
@@ -269,8 +268,8 @@ class SchwarzPreconditioner {
       held_[d].assign(n, {});
       for (int j = 0; j < block_count_[d]; ++j) {
         const int first = j * block, last = std::min(n, first + block);
+        const bool whole = last - first + 2 * overlap >= n;
         for (int c = 0; c < n; ++c) {
-          const bool whole = last - first + 2 * overlap >= n;
           const int before = ((first - c) % n + n) % n, after = ((c - (last - 1)) % n + n) % n;
           const bool inside = c >= first && c < last;
           if (whole || inside || before <= overlap || after <= overlap) held_[d][c].push_back(j);
@@ -401,71 +400,67 @@ class SchwarzPreconditioner {
   // Each block's matrix from the entries, shifted and factored; then laid out for apply.
   void factor(const std::vector<Entry>& entries, double shift) {
     const int blocks = static_cast<int>(local_block_.size());
-    std::vector<int> slot_of_block;  // flat block index -> this process's slot, or -1
-    int all_blocks = 1;
-    for (int d = 0; d < Dim; ++d) all_blocks *= block_count_[d];
-    slot_of_block.assign(all_blocks, -1);
-    for (int s = 0; s < blocks; ++s) slot_of_block[local_block_[s]] = s;
-    std::vector<std::vector<double>> matrix(blocks);
-    for (int s = 0; s < blocks; ++s) {
-      const size_t n = block_points_[s].size();
-      matrix[s].assign(n * n, 0.0);
-      largest_ = std::max(largest_, static_cast<int>(n));
-    }
-    auto position = [&](int s, long long g) -> long long {
-      const auto& p = block_points_[s];
-      const auto it = std::lower_bound(p.begin(), p.end(), g);
-      return it != p.end() && *it == g ? it - p.begin() : -1;
-    };
-    for (const Entry& e : entries)
-      for (int b : blocks_holding(coordinates(keys_[e.row]))) {
-        const int s = slot_of_block[b];
-        if (s < 0) continue;
-        const long long i = position(s, e.row), j = position(s, e.column);
-        if (i < 0 || j < 0) continue;
-        const long long n = static_cast<long long>(block_points_[s].size());
-        matrix[s][i + j * n] += e.value;
-      }
-    // Lay out: members, own flags, pivots and factors, block after block.
+    // Laid out block after block: members, own flags and pivots, and the
+    // matrices, each filled, shifted and factored in place.
     std::vector<long long> start{0}, factor_start{0};
     for (int s = 0; s < blocks; ++s) {
       const long long n = static_cast<long long>(block_points_[s].size());
       start.push_back(start.back() + n);
       factor_start.push_back(factor_start.back() + n * n);
     }
-    block_start_host_ = start;
-    block_start_ = to_device<long long>("schwarz_block_start", start);
-    factor_start_ = to_device<long long>("schwarz_factor_start", factor_start);
+    int all_blocks = 1;
+    for (int d = 0; d < Dim; ++d) all_blocks *= block_count_[d];
+    std::vector<int> slot_of_block(all_blocks, -1);  // flat block index -> this process's slot, or -1
+    for (int s = 0; s < blocks; ++s) slot_of_block[local_block_[s]] = s;
+    auto position = [&](int s, long long g) -> long long {
+      const auto& p = block_points_[s];
+      const auto it = std::lower_bound(p.begin(), p.end(), g);
+      return it != p.end() && *it == g ? it - p.begin() : -1;
+    };
+    std::vector<double> factors(factor_start.back(), 0.0);
+    for (const Entry& e : entries)
+      for (int b : blocks_holding(coordinates(keys_[e.row]))) {
+        const int s = slot_of_block[b];
+        if (s < 0) continue;
+        const long long i = position(s, e.row), j = position(s, e.column);
+        if (i < 0 || j < 0) continue;
+        factors[factor_start[s] + i + j * (start[s + 1] - start[s])] += e.value;
+      }
     std::vector<long long> members(start.back());
     std::vector<int> owns(start.back()), pivots(start.back());
-    std::vector<double> factors(factor_start.back());
-    Teuchos::LAPACK<int, double> lapack;
     for (int s = 0; s < blocks; ++s) {
       const int n = static_cast<int>(block_points_[s].size());
-      auto& a = matrix[s];
-      double largest = 0;
-      for (int i = 0; i < n; ++i) largest = std::max(largest, std::fabs(a[i + i * static_cast<long long>(n)]));
-      for (int i = 0; i < n; ++i) a[i + i * static_cast<long long>(n)] += shift * largest;
-      int info = 0;
-      lapack.GETRF(n, n, a.data(), n, &pivots[start[s]], &info);
+      double* a = &factors[factor_start[s]];
       // An exactly singular block (no entries at all, say): the identity instead.
-      if (info != 0) {
-        std::fill(a.begin(), a.end(), 0.0);
+      if (shifted_lu(n, a, &pivots[start[s]], shift) != 0) {
+        std::fill(a, a + static_cast<long long>(n) * n, 0.0);
         for (int i = 0; i < n; ++i) a[i + i * static_cast<long long>(n)] = 1.0, pivots[start[s] + i] = i + 1;
       }
-      std::copy(a.begin(), a.end(), factors.begin() + factor_start[s]);
       for (int k = 0; k < n; ++k) {
         const long long g = block_points_[s][k];
         members[start[s] + k] = g;
         owns[start[s] + k] = block_owning(coordinates(keys_[g])) == local_block_[s];
       }
-      std::vector<double>().swap(a);
     }
+    block_start_host_ = start;
+    block_start_ = to_device<long long>("schwarz_block_start", start);
+    factor_start_ = to_device<long long>("schwarz_factor_start", factor_start);
     members_ = to_device<long long>("schwarz_members", members);
     owns_ = to_device<int>("schwarz_owns", owns);
     pivots_ = to_device<int>("schwarz_pivots", pivots);
     factors_ = to_device<double>("schwarz_factors", factors);
     work_ = View("schwarz_work", start.back());
+  }
+
+  // a (n x n, column-major) plus shift times its largest diagonal entry on
+  // its diagonal, factored in place by LAPACK's getrf; getrf's info.
+  static int shifted_lu(int n, double* a, int* pivots, double shift) {
+    double largest = 0;
+    for (int i = 0; i < n; ++i) largest = std::max(largest, std::fabs(a[i + i * static_cast<long long>(n)]));
+    for (int i = 0; i < n; ++i) a[i + i * static_cast<long long>(n)] += shift * largest;
+    int info = 0;
+    Teuchos::LAPACK<int, double>().GETRF(n, n, a, n, pivots, &info);
+    return info;
   }
 
   // The coarse level's aggregates: per block, the parts of its own fluid
@@ -502,14 +497,8 @@ class SchwarzPreconditioner {
   // factored; every process the same.
   void factor_coarse(double shift) {
     if (coarse_.empty()) return;
-    const int n = aggregates_;
-    double largest = 0;
-    for (int i = 0; i < n; ++i) largest = std::max(largest, std::fabs(coarse_[i + i * static_cast<long long>(n)]));
-    for (int i = 0; i < n; ++i) coarse_[i + i * static_cast<long long>(n)] += shift * largest;
-    coarse_pivots_.assign(n, 0);
-    int info = 0;
-    Teuchos::LAPACK<int, double>().GETRF(n, n, coarse_.data(), n, coarse_pivots_.data(), &info);
-    if (info == 0) coarse_lu_ = std::move(coarse_);
+    coarse_pivots_.assign(aggregates_, 0);
+    if (shifted_lu(aggregates_, coarse_.data(), coarse_pivots_.data(), shift) == 0) coarse_lu_ = std::move(coarse_);
     std::vector<double>().swap(coarse_);
   }
 
@@ -548,7 +537,6 @@ class SchwarzPreconditioner {
   mutable std::vector<double> coarse_values_;
   std::function<void(const View&, const View&)> operator_;  // A, for the residual the coarse level leaves
   View coarse_in_, coarse_residual_;
-  int largest_ = 0;
   Kokkos::View<long long*, MemorySpace> block_start_, factor_start_, members_;
   Kokkos::View<int*, MemorySpace> owns_, pivots_, own_;
   Kokkos::View<double*, MemorySpace> factors_;

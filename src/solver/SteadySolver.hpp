@@ -21,9 +21,9 @@
 // with the rows next to walls weighed down (wall_weighted_scaling).
 // The inner solves ((DG)^-1, A^-1) are GMRES to a loose tolerance,
 // preconditioned by lattice Laplacians (solver/LatticePreconditioner.hpp:
-// the wide one for DG, the compact one for A). precondition_dg is the seam
-// where a better multigrid for DG goes (the smoothed aggregation on the
-// lattice's sign patterns that docs/steady_solver.md measures).
+// the wide one for DG, the compact one for A), or for DG by local solves on
+// blocks (solver/SchwarzPreconditioner.hpp; Solver/DG Preconditioner, whose
+// default switches to them in 2D where the wide one's DG solves stall).
 #include <Kokkos_Core.hpp>
 
 #include <algorithm>
@@ -559,9 +559,8 @@ class SteadySolver {
 
     // The lattice Laplacians that precondition the inner solves, each scaled
     // to its operator on a smooth mode s: c = s . L^-1 (K s) / s . s.
-    std::array<int, Dim> lattice;
+    const auto lattice = lattice_points();
     const double dx = sim_.scene().particle_spacing;
-    for (int d = 0; d < Dim; ++d) lattice[d] = static_cast<int>(std::lround(sim_.scene().cell_size[d] / dx));
     if (options_.dg_preconditioner == DgPreconditioner::Schwarz) {
       build_schwarz(system);
     } else {
@@ -586,18 +585,23 @@ class SteadySolver {
     if (wide_.available()) measure_pattern_weights(system, x, y);
   }
 
+  // Points per axis of the cell's lattice at the particle spacing.
+  std::array<int, Dim> lattice_points() const {
+    std::array<int, Dim> lattice;
+    const double dx = sim_.scene().particle_spacing;
+    for (int d = 0; d < Dim; ++d) lattice[d] = static_cast<int>(std::lround(sim_.scene().cell_size[d] / dx));
+    return lattice;
+  }
+
   // Restricted additive Schwarz for the DG solves (Solver/DG Preconditioner
   // = schwarz, or auto once the lattice cycle's DG solves stall). DG couples
   // points through two pair loops, each reaching twice the kernel's support
   // (3h) where a wall's pressure or velocity is extrapolated from the fluid.
   void build_schwarz(System& system) {
-    std::array<int, Dim> lattice;
-    const double dx = sim_.scene().particle_spacing;
-    for (int d = 0; d < Dim; ++d) lattice[d] = static_cast<int>(std::lround(sim_.scene().cell_size[d] / dx));
     const int reach = static_cast<int>(std::ceil(12.0 * sim_.scene().smoothing_length_ratio - 1e-9));
     schwarz_ = SchwarzPreconditioner<Dim, ExecSpace>(
-        space_, sim_.communicator(), sim_.particles().x, system.fluid_mask(), system.owned(), lattice, dx,
-        kSchwarzBlock, kSchwarzOverlap, reach, kSchwarzShift,
+        space_, sim_.communicator(), sim_.particles().x, system.fluid_mask(), system.owned(), lattice_points(),
+        sim_.scene().particle_spacing, kSchwarzBlock, kSchwarzOverlap, reach, kSchwarzShift,
         [this, &system](const View& in, const View& out) { apply_dg(system, in, out); });
     wide_ = LatticePreconditioner<Dim, ExecSpace>();  // replaced, where it was built
   }
