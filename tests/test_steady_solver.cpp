@@ -423,6 +423,38 @@ TYPED_TEST(SteadySolverTest, FgmresKeepsItsBasisOrthogonalOnAnIllConditionedSyst
   EXPECT_LT(relative_residual(ops, apply, b, x), 1e-9);
 }
 
+// A cycle length raised during a solve takes effect at the next cycle: on
+// the system above, cycles of 8 stall for 88 iterations, where one cycle
+// of 8 and then one of n (the whole space) reach 1e-10.
+TYPED_TEST(SteadySolverTest, FgmresLengthensItsCyclesWhenAsked) {
+  using Space = TypeParam;
+  using V = Kokkos::View<double*, typename Space::memory_space>;
+  KrylovVectors<Space> ops{Space(), Communicator()};
+  const int n = 80;
+  const auto apply = host_rows_operator<Space>(n, [n](int i, const auto& in) {
+    return std::pow(10.0, -6.0 * i / (n - 1)) * in(i) + 1e-8 * (i > 0 ? in(i - 1) : 0);
+  });
+  const auto identity = [&](const V& in, const V& out) { ops.copy(in, out); };
+  V b("b", n), x("x", n);
+  Kokkos::deep_copy(b, 1.0);
+  KrylovOptions options;
+  options.tolerance = 1e-10;
+  options.restart = 8;
+  options.max_iterations = 8 + n;
+  const auto short_cycles = fgmres(ops, apply, identity, b, x, options);
+  EXPECT_FALSE(short_cycles.converged);
+  EXPECT_GT(relative_residual(ops, apply, b, x), 1e-6);
+
+  Kokkos::deep_copy(x, 0.0);
+  int cycles = 0;
+  options.cycle_length = [&] { return cycles++ == 0 ? 8 : n; };
+  const auto lengthened = fgmres(ops, apply, identity, b, x, options);
+  EXPECT_TRUE(lengthened.converged);
+  EXPECT_GT(lengthened.iterations, 8);
+  EXPECT_EQ(lengthened.basis_vectors, 2 * n + 1);
+  EXPECT_LT(relative_residual(ops, apply, b, x), 1e-9);
+}
+
 // The lattice multigrid as a stationary iteration on a Dirichlet Laplacian
 // around a disc (periodic lattice): the residual falls by the same factor
 // per V-cycle at 32, 64 and 128 points a side: it does not grow.

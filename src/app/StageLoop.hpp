@@ -245,6 +245,7 @@ class StageLoop {
       if (s.inner_cap > scene_.solver.max_inner_iterations)
         n += std::snprintf(text + n, sizeof text - n, "  inner cap %d", s.inner_cap);
       if (s.dg_by_blocks) n += std::snprintf(text + n, sizeof text - n, "  DG by blocks");
+      if (s.restart > scene_.solver.restart) n += std::snprintf(text + n, sizeof text - n, "  restart %d", s.restart);
       if (measures_permeability() && force > 0)
         std::snprintf(text + n, sizeof text - n, "  k = %.5e m^2",
                       scene_.kinematic_viscosity * sim.superficial_velocity()[axis_] / force);

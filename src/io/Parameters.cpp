@@ -475,7 +475,10 @@ RCP<ParameterList> make_valid_parameters() {
           int_in(1, 1 << 20));
     s.set("Krylov Restart", 30,
           "'steady': restart length of the outer GMRES, the one each Newton step is solved by (vectors kept; "
-          "memory grows with it, as far as the iterations reach).",
+          "memory grows with it, as far as the iterations reach). Where a linear solve stalls with nothing inner "
+          "left to make more exact (or with the DG solves on blocks, DG Preconditioner), its cycles are made 4 "
+          "times longer, up to 16 times this, if their vectors fit in a quarter of the free memory "
+          "(docs/steady_solver.md, 'Longer outer cycles').",
           int_in(2, 1000));
     s.set("Inner Krylov Restart", 30,
           "'steady': restart length of the preconditioner's inner GMRES solves (at most Max Inner Iterations).",

@@ -65,6 +65,9 @@ struct KrylovOptions {
   double tolerance = 1e-6;  // on ||b - A x|| / ||b||
   int max_iterations = 500;
   int restart = 30;
+  // If set, the length of each cycle as it begins, in place of restart: a
+  // caller may lengthen the cycles of a solve that stalls.
+  std::function<int()> cycle_length;
   // Called after every iteration with the iteration count and relative
   // residual; returning true abandons the solve (a stop signal).
   std::function<bool(int, double)> after_iteration;
@@ -125,7 +128,7 @@ KrylovResult fgmres(const KrylovVectors<ExecSpace>& ops, Apply&& apply, Precondi
     result.converged = true;
     return result;
   }
-  const int m = options.restart;
+  int m = options.restart;
   // The bases V (m + 1 vectors) and Z (m) grow as the iterations reach
   // them: a solve that converges in k < m iterations holds 2 k + 1 vectors,
   // not 2 m + 1 (the steady solver's Newton steps take about 12 of a restart
@@ -138,10 +141,12 @@ KrylovResult fgmres(const KrylovVectors<ExecSpace>& ops, Apply&& apply, Precondi
     return vectors[j];
   };
   const View w = workspace.work(n);
-  std::vector<double> H((m + 1) * m), g(m + 1), cs(m), sn(m);
+  std::vector<double> H, g, cs, sn;
   auto h = [&](int i, int j) -> double& { return H[i * m + j]; };
 
   while (true) {
+    if (options.cycle_length) m = std::max(1, options.cycle_length());
+    H.resize((m + 1) * m), g.resize(m + 1), cs.resize(m), sn.resize(m);
     // r = b - A x
     apply(x, w);
     ops.copy(b, basis(V, false, 0));

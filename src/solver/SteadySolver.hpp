@@ -68,6 +68,7 @@ struct SteadyReport {
   double bytes_per_particle = 0;  // what the solver allocates, over the particles (fluid and boundary)
   int fluid_regions = 0;          // the borders: regions of the fluid that keep their own mass
   bool dg_by_blocks = false;      // the DG solves ended preconditioned by local solves on blocks (Schwarz)
+  int restart = 0;                // the outer solve's cycles at the end (raised from Solver/Krylov Restart)
 };
 
 // Where a solve stands, for the progress line.
@@ -78,6 +79,7 @@ struct SteadyProgress {
   double linear_residual = 0;   // of the Newton step being solved
   double linear_tolerance = 0;  // what that step's linear solve is asked for: it ends at residual x this
   int inner_cap = 0;            // the inner solves' cap now (raised from Solver/Max Inner Iterations)
+  int restart = 0;              // the outer solve's cycles now (raised from Solver/Krylov Restart)
   bool dg_by_blocks = false;    // the DG solves preconditioned by local solves on blocks now
 };
 
@@ -134,6 +136,7 @@ class SteadySolver {
   // The inner tolerance of a Newton step taken only to settle k, and the
   // least a stalled linear solve tightens a looser one to (below).
   static constexpr double kSettlingInnerTolerance = 1e-2;
+  static constexpr int kRestartRaise = 4, kMostRestarts = 16;
   // Below this, a velocity row's share of wall drag (wall_weighted_scaling)
   // is the forward difference's rounding (a bulk row's: about 1e-15).
   static constexpr double kDragShareFloor = 1e-6;
@@ -162,7 +165,9 @@ class SteadySolver {
     border_weights_ = View("steady_border_weights", borders);
     border_weights_host_ = Kokkos::create_mirror_view(border_weights_);
     report.fluid_regions = borders;
+    outer_rows_ = n;
     inner_cap_ = options_.max_inner_iterations;
+    restart_ = options_.restart;
     step_inner_tolerance_ = inner_tolerance_asked();
     settling_step_ = false;
     work_residual_q_ = View("steady_residual_q_drift_free", nq);
@@ -212,7 +217,8 @@ class SteadySolver {
       // After a step that lowered nothing: the same step solved a hundred times further.
       if (retry_tolerance > 0) krylov.tolerance = retry_tolerance;
       krylov.max_iterations = options_.max_linear_iterations;
-      krylov.restart = options_.restart;
+      krylov.restart = restart_;
+      krylov.cycle_length = [this] { return restart_; };
       status.linear_tolerance = krylov.tolerance;
       CapWatch watch{0, 1.0, dg_solves_, capped_dg_solves_};
       // A step taken only to settle k (the residual already below the
@@ -231,6 +237,7 @@ class SteadySolver {
         status.linear_iterations = report.linear_iterations + iterations;
         status.linear_residual = linear_residual;
         status.inner_cap = inner_cap_;
+        status.restart = restart_;
         status.dg_by_blocks = schwarz_.available();
         if (progress_) progress_(status);
         return cannot_settle || (should_stop_ && should_stop_());
@@ -292,6 +299,7 @@ class SteadySolver {
     report.inner_iterations = inner_iterations_;
     report.inner_tolerance = step_inner_tolerance_;
     report.dg_by_blocks = schwarz_.available();
+    report.restart = restart_;
     report.rate_evaluations = system.rate_evaluations();
     report.partial_rate_evaluations = system.partial_rate_evaluations();
     report.solve_seconds = seconds_since(start) - report.setup_seconds;
@@ -336,7 +344,7 @@ class SteadySolver {
   // Whether a whole restart cycle of outer iterations has passed since the
   // watch was last set without halving the linear residual.
   bool cycle_without_halving(const CapWatch& watch, int iteration, double residual) const {
-    return iteration - watch.iteration >= options_.restart && residual > 0.5 * watch.residual;
+    return iteration - watch.iteration >= restart_ && residual > 0.5 * watch.residual;
   }
 
   // The inner solves made more exact when over a restart cycle of outer
@@ -355,17 +363,37 @@ class SteadySolver {
   // moves, both stay. FGMRES allows a preconditioner that changes from one
   // iteration to the next; all processes see the same counts.
   void watch_inner_cap(CapWatch& watch, int iteration, double residual) {
-    if (iteration - watch.iteration < options_.restart) return;
+    if (iteration - watch.iteration < restart_) return;
     const long long solves = dg_solves_ - watch.dg_solves, capped = capped_dg_solves_ - watch.capped_dg_solves;
     const bool stalled = cycle_without_halving(watch, iteration, residual);
     const bool cap_binds = solves > 0 && 2 * capped >= solves && inner_cap_ < options_.raised_inner_iterations;
     if (stalled && cap_binds && switch_to_schwarz_allowed())
       switch_to_schwarz_ = true;
+    else if (stalled && schwarz_.available() && longer_cycles_allowed())
+      restart_ *= kRestartRaise;
     else if (stalled && cap_binds)
       inner_cap_ = static_cast<int>(std::min<long long>(options_.raised_inner_iterations, 4LL * inner_cap_));
     else if (stalled && inner_tolerance() > kSettlingInnerTolerance)
       step_inner_tolerance_ = std::max(kSettlingInnerTolerance, 0.2 * step_inner_tolerance_);
+    else if (stalled && longer_cycles_allowed())
+      restart_ *= kRestartRaise;
     watch = {iteration, residual, dg_solves_, capped_dg_solves_};
+  }
+
+  // The outer solve's cycles lengthened x4 (at most to kMostRestarts times
+  // Solver/Krylov Restart), where nothing inner is left to make more exact:
+  // on an image with passages a particle wide, LSC leaves the outer
+  // operator many eigenvalues near zero, and a restart throws away the
+  // directions that resolve them. A 128² image (porosity 0.5, sigma 2) did
+  // not finish its first Newton step with cycles of 30 in 600 s, and
+  // converged in 278 s with cycles of 300 (docs/steady_solver.md, "Longer
+  // outer cycles"). The longer bases (two vectors an iteration) must fit in
+  // a quarter of what every process can still allocate.
+  bool longer_cycles_allowed() const {
+    if (restart_ * kRestartRaise > kMostRestarts * options_.restart) return false;
+    const double n = static_cast<double>(outer_rows_);
+    const double added = 8.0 * 2.0 * (kRestartRaise - 1) * restart_ * n;
+    return !sim_.communicator().any(!(added < 0.25 * memory_available_bytes()));
   }
 
   // Solver/DG Preconditioner = auto in 2D, before the switch: a stall with
@@ -871,6 +899,8 @@ class SteadySolver {
   double wide_scale_ = 0, compact_scale_ = 0;
   long long inner_iterations_ = 0;
   int inner_cap_ = 0;                               // what an inner solve may take now
+  int restart_ = 0;                                 // the outer solve's cycles now
+  long long outer_rows_ = 0;                        // of the outer solve's vectors on this process
   double step_inner_tolerance_ = 0;  // what inner solves are asked for in a step that does not settle k
   bool settling_step_ = false;       // whether the Newton step being solved settles k
   long long dg_solves_ = 0, capped_dg_solves_ = 0;  // DG solves, and those that ended at the cap
