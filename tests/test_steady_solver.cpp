@@ -865,6 +865,7 @@ struct OneGrainSolve {
   double flow = 0;
   int highest_inner_cap = 0;
   long long blocks_from = 0;
+  int longest_restart = 0;
 };
 
 template <int Dim, class Space>
@@ -887,6 +888,7 @@ OneGrainSolve solve_one_grain(double inner_tolerance, int restart = SteadyOption
   OneGrainSolve solve;
   auto progress = [&solve](const SteadyProgress& p) {
     solve.highest_inner_cap = std::max(solve.highest_inner_cap, p.inner_cap);
+    solve.longest_restart = std::max(solve.longest_restart, p.restart);
     if (p.dg_by_blocks && solve.blocks_from == 0) solve.blocks_from = p.linear_iterations;
   };
   solve.report = SteadySolver<Dim, Space>(sim, Space(), options, nullptr, progress).solve();
@@ -1012,6 +1014,49 @@ TYPED_TEST(SteadySolverTest, AutoSwitchesToBlocksWhereCappedDgSolvesStall) {
   EXPECT_FALSE(plain_auto.report.dg_by_blocks);
   EXPECT_EQ(plain_auto.report.inner_iterations, plain.report.inner_iterations);
   EXPECT_EQ(plain_auto.flow, plain.flow);
+}
+
+// A linear solve that stalls gets longer outer cycles (x4 a stall, at most
+// x16): on the cell of pockets with cycles of 2 and the inner tolerance at
+// 0.01 (nothing inner left to tighten), with the lattice cycle and with the
+// DG solves on blocks. k is the default solve's; solves that do not stall
+// (the default cycles of 30, on both cells) keep their cycles.
+TYPED_TEST(SteadySolverTest, StalledSolvesGetLongerOuterCycles) {
+  using Space = TypeParam;
+  struct Solve {
+    SteadyReport report;
+    double flow = 0;
+    int longest_restart = 0;
+  };
+  auto solve = [](const SceneConfig& scene, int restart, double inner_tolerance, DgPreconditioner dg) {
+    Simulation<2, Space> sim(scene);
+    SteadyOptions options;
+    options.restart = restart;
+    options.inner_tolerance = inner_tolerance;
+    options.dg_preconditioner = dg;
+    Solve s;
+    auto progress = [&s](const SteadyProgress& p) { s.longest_restart = std::max(s.longest_restart, p.restart); };
+    s.report = SteadySolver<2, Space>(sim, Space(), options, nullptr, progress).solve();
+    s.flow = sim.superficial_velocity()[0];
+    return s;
+  };
+  const int restart = SteadyOptions().restart;
+  for (const SceneConfig& scene : {disc_cell(true), testing::pocket_cell(true)}) {
+    const auto plain = solve(scene, restart, 0.0, DgPreconditioner::Lattice);
+    EXPECT_TRUE(plain.report.converged);
+    EXPECT_EQ(plain.report.restart, restart);
+    EXPECT_EQ(plain.longest_restart, restart);
+  }
+  const SceneConfig pockets = testing::pocket_cell(true);
+  const auto plain = solve(pockets, restart, 0.0, DgPreconditioner::Lattice);
+  for (const auto dg : {DgPreconditioner::Lattice, DgPreconditioner::Schwarz}) {
+    const auto stalled = solve(pockets, 2, 0.01, dg);
+    EXPECT_TRUE(stalled.report.converged);
+    EXPECT_GE(stalled.longest_restart, 8);
+    EXPECT_LE(stalled.longest_restart, 32);
+    EXPECT_EQ(stalled.report.restart, stalled.longest_restart);
+    EXPECT_NEAR(stalled.flow / plain.flow, 1.0, 1e-4);
+  }
 }
 
 // A solve held to two linear iterations does not converge, and says so.
