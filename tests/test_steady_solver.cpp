@@ -399,6 +399,14 @@ TYPED_TEST(SteadySolverTest, FgmresSolvesASmallSystem) {
   EXPECT_EQ(short_solve.basis_vectors, 2 * short_solve.iterations + 1);
 }
 
+// A system of condition number 1e6: a spread diagonal with a nonsymmetric coupling.
+template <class Space>
+auto ill_conditioned_operator(int n) {
+  return host_rows_operator<Space>(n, [n](int i, const auto& in) {
+    return std::pow(10.0, -6.0 * i / (n - 1)) * in(i) + 1e-8 * (i > 0 ? in(i - 1) : 0);
+  });
+}
+
 // FGMRES on a system of condition number 1e6 (a spread diagonal with a
 // nonsymmetric coupling) without restarts, which in exact arithmetic ends
 // within n iterations: the basis must stay orthogonal for it to reach a
@@ -409,9 +417,7 @@ TYPED_TEST(SteadySolverTest, FgmresKeepsItsBasisOrthogonalOnAnIllConditionedSyst
   using V = Kokkos::View<double*, typename Space::memory_space>;
   KrylovVectors<Space> ops{Space(), Communicator()};
   const int n = 80;
-  const auto apply = host_rows_operator<Space>(n, [n](int i, const auto& in) {
-    return std::pow(10.0, -6.0 * i / (n - 1)) * in(i) + 1e-8 * (i > 0 ? in(i - 1) : 0);
-  });
+  const auto apply = ill_conditioned_operator<Space>(n);
   V b("b", n), x("x", n);
   Kokkos::deep_copy(b, 1.0);
   KrylovOptions options;
@@ -431,9 +437,7 @@ TYPED_TEST(SteadySolverTest, FgmresLengthensItsCyclesWhenAsked) {
   using V = Kokkos::View<double*, typename Space::memory_space>;
   KrylovVectors<Space> ops{Space(), Communicator()};
   const int n = 80;
-  const auto apply = host_rows_operator<Space>(n, [n](int i, const auto& in) {
-    return std::pow(10.0, -6.0 * i / (n - 1)) * in(i) + 1e-8 * (i > 0 ? in(i - 1) : 0);
-  });
+  const auto apply = ill_conditioned_operator<Space>(n);
   const auto identity = [&](const V& in, const V& out) { ops.copy(in, out); };
   V b("b", n), x("x", n);
   Kokkos::deep_copy(b, 1.0);
