@@ -384,11 +384,12 @@ class SteadySolver {
   // Solver/Krylov Restart), where nothing inner is left to make more exact:
   // on an image with passages a particle wide, LSC leaves the outer
   // operator many eigenvalues near zero, and a restart throws away the
-  // directions that resolve them. A 128² image (porosity 0.5, sigma 2) did
-  // not finish its first Newton step with cycles of 30 in 600 s, and
-  // converged in 278 s with cycles of 300 (docs/steady_solver.md, "Longer
-  // outer cycles"). The longer bases (two vectors an iteration) must fit in
-  // a quarter of what every process can still allocate.
+  // directions that resolve them. A 128² image (porosity 0.5, sigma 2) took
+  // 600 s over one Newton step with cycles of 30; with the
+  // cycles raised to 480 it converged in 476 s, with cycles of 300 from the
+  // start in 278 s (docs/steady_solver.md, "Longer outer cycles"). The
+  // longer bases (two vectors an iteration) must fit in a quarter of what
+  // every process can still allocate.
   bool longer_cycles_allowed() const {
     if (restart_ * kRestartRaise > kMostRestarts * options_.restart) return false;
     const double n = static_cast<double>(outer_rows_);
