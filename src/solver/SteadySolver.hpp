@@ -360,8 +360,10 @@ class SteadySolver {
   // rule). Tightening solves that the cap ends only makes them dearer: with
   // both changed on every stall the same image at one particle a voxel took
   // 78,043 inner iterations, 20,202 with the rule. Where the outer solve
-  // moves, both stay. FGMRES allows a preconditioner that changes from one
-  // iteration to the next; all processes see the same counts.
+  // moves, both stay. Where neither is left, or once the DG solves are on
+  // blocks (local-exact already), the outer cycles are lengthened instead
+  // (longer_cycles_allowed). FGMRES allows a preconditioner that changes
+  // from one iteration to the next; all processes see the same counts.
   void watch_inner_cap(CapWatch& watch, int iteration, double residual) {
     if (iteration - watch.iteration < restart_) return;
     const long long solves = dg_solves_ - watch.dg_solves, capped = capped_dg_solves_ - watch.capped_dg_solves;
@@ -382,14 +384,14 @@ class SteadySolver {
 
   // The outer solve's cycles lengthened x4 (at most to kMostRestarts times
   // Solver/Krylov Restart), where nothing inner is left to make more exact:
-  // on an image with passages a particle wide, LSC leaves the outer
-  // operator many eigenvalues near zero, and a restart throws away the
-  // directions that resolve them. A 128² image (porosity 0.5, sigma 2) took
-  // 600 s over one Newton step with cycles of 30; with the
-  // cycles raised to 480 it converged in 476 s, with cycles of 300 from the
-  // start in 278 s (docs/steady_solver.md, "Longer outer cycles"). The
-  // longer bases (two vectors an iteration) must fit in a quarter of what
-  // every process can still allocate.
+  // on an image with passages a particle wide, DG keeps many eigenvalues
+  // near zero even with the blocks, the loose DG solves leave them to the
+  // outer solve, and each restart throws away what it has learnt of them.
+  // A 128² image (porosity 0.5, sigma 2) took 600 s over one Newton step
+  // with cycles of 30; with the cycles raised to 480 it converged in 476 s,
+  // with cycles of 300 from the start in 278 s (docs/steady_solver.md,
+  // "Longer outer cycles"). The longer bases (two vectors an iteration)
+  // must fit in a quarter of what every process can still allocate.
   bool longer_cycles_allowed() const {
     if (restart_ * kRestartRaise > kMostRestarts * options_.restart) return false;
     const double n = static_cast<double>(outer_rows_);
