@@ -508,8 +508,9 @@ RCP<ParameterList> make_valid_parameters() {
           "of DG, and up to 2.6 kB a fluid particle more. 'auto': 'lattice', switched to 'schwarz' in 2D where the "
           "lattice cycle's DG solves stall at their cap (instead of raising it; see Raised Inner Iterations). "
           "Measured: on the grain scenes of input/ auto never switches; on three 2D blobs images it took 0.02 to "
-          "0.6 of the lattice's time and schwarz alone 0.003 to 0.17; where passages are one particle wide none "
-          "converges (docs/steady_solver.md, 'Local solves for DG').",
+          "0.6 of the lattice's time and schwarz alone 0.003 to 0.17; where passages are one particle wide, auto "
+          "converges once the outer cycles are lengthened (Krylov Restart), in minutes (docs/steady_solver.md, "
+          "'Local solves for DG', 'Longer outer cycles').",
           one_of({"lattice", "schwarz", "auto"}));
   }
   {

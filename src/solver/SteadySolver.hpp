@@ -394,9 +394,8 @@ class SteadySolver {
   // must fit in a quarter of what every process can still allocate.
   bool longer_cycles_allowed() const {
     if (restart_ * kRestartRaise > kMostRestarts * options_.restart) return false;
-    const double n = static_cast<double>(outer_rows_);
-    const double added = 8.0 * 2.0 * (kRestartRaise - 1) * restart_ * n;
-    return !sim_.communicator().any(!(added < 0.25 * memory_available_bytes()));
+    const double added = 8.0 * 2.0 * (kRestartRaise - 1) * restart_ * static_cast<double>(outer_rows_);
+    return fits_on_every_process(added, 0.25);
   }
 
   // Solver/DG Preconditioner = auto in 2D, before the switch: a stall with
@@ -407,9 +406,15 @@ class SteadySolver {
   // memory check before the run counts them for 'schwarz' only).
   bool switch_to_schwarz_allowed() const {
     if (Dim != 2 || options_.dg_preconditioner != DgPreconditioner::Auto || schwarz_.available()) return false;
-    const auto& comm = sim_.communicator();
-    const double factors = 8.0 * schwarz_factor_values(Dim) * static_cast<double>(sim_.fluid_particles()) / comm.size();
-    return !comm.any(!(factors < 0.5 * memory_available_bytes()));
+    const double factors =
+        8.0 * schwarz_factor_values(Dim) * static_cast<double>(sim_.fluid_particles()) / sim_.communicator().size();
+    return fits_on_every_process(factors, 0.5);
+  }
+
+  // Whether `bytes` more fit in `share` of what every process can still
+  // allocate (all processes get the same answer).
+  bool fits_on_every_process(double bytes, double share) const {
+    return !sim_.communicator().any(!(bytes < share * memory_available_bytes()));
   }
 
   static double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
