@@ -227,6 +227,7 @@ JsonObject RunReport::to_json() const {
         entry.add("relative_permeability_extrapolated", phase.relative_permeability_extrapolated)
             .add("relative_permeability_uncertainty", phase.relative_permeability_uncertainty);
       entry.add("mass", phase.mass).add("mean_pressure", phase.mean_pressure);
+      if (phase.has_phase_field) entry.add("phase_field_volume", phase.phase_field_volume);
       entries.push_back(entry);
     }
     json.add("phases", entries);

@@ -106,6 +106,8 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
                                      : shortest_collision<3>(scene, young, p.velocity_scale);
     p.limits.contact = duration / kStepsPerCollision;
   }
+  if (scene.moving_interface)
+    p.limits.capillary = capillary_time_step(p.smoothing_length, scene.density, scene.surface_tension);
   p.time_step = scene.time_step > 0 ? scene.time_step : p.limits.smallest();
   if (!(p.time_step > 0) || !std::isfinite(p.time_step)) {
     std::ostringstream msg;
@@ -118,7 +120,8 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
     std::ostringstream msg;
     msg << "Discretization/Time Step = " << scene.time_step << " exceeds the stability limit "
         << p.limits.smallest() << " (acoustic " << p.limits.acoustic << ", viscous " << p.limits.viscous
-        << ", body force " << p.limits.force << ", contact " << p.limits.contact << ")";
+        << ", body force " << p.limits.force << ", contact " << p.limits.contact << ", capillary "
+        << p.limits.capillary << ")";
     throw std::invalid_argument(msg.str());
   }
   p.contact_modulus = !contacts  ? 0.0
@@ -238,6 +241,12 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     for (size_t p = 0; p < scene.phases.size(); ++p)
       fluid_.phase_kinematic_viscosity[p] = scene.phases[p].kinematic_viscosity;
     if (scene.surface_tension > 0 || scene.driven_phase >= 0) particles_.keep_phase_acceleration();
+    if (scene.moving_interface) {
+      if (comm_.size() > 1)
+        throw std::invalid_argument("Phases/Interface = moving runs on one process for now (its phase field is "
+                                    "on the whole lattice): run without mpirun, or with -np 1");
+      particles_.keep_colour();
+    }
   }
   if (start == Start::Empty) return;
 
@@ -258,8 +267,12 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     throw std::invalid_argument(msg.str());
   }
   if (scene.has_phases()) place_phases();
-  if (scene.surface_tension > 0) place_surface_tension();
-  if (scene.driven_phase >= 0) place_phase_body_force();
+  if (scene.moving_interface) {
+    start_interface();  // the surface tension and the driven phase's force too
+  } else {
+    if (scene.surface_tension > 0) place_surface_tension();
+    if (scene.driven_phase >= 0) place_phase_body_force();
+  }
   if (scene.moving_grains()) start_moving_grains();
   compute_rates();
   if (rigid_grains_.moving()) rigid_grains_.take_loads(particles_, comm_);
@@ -285,7 +298,7 @@ void Simulation<Dim, ExecSpace>::place_phases() {
     else if (labelled)
       phase(i) = image_phase_one(at) ? 1 : 0;
     else
-      phase(i) = drained ? drainage_.drained[drainage_lattice_index(at)] : phase_at(scene_, at);
+      phase(i) = drained ? drainage_.drained[lattice_point_index(at)] : phase_at(scene_, at);
     if (kind(i) == kFluid) ++counts[phase(i)];
   }
   drainage_.drained = std::vector<char>();
@@ -368,7 +381,7 @@ bool Simulation<Dim, ExecSpace>::image_phase_one(const double* x) const {
 // A fluid particle's lattice point as an index of the whole lattice
 // (x fastest), from its position (i + 1/2) dx.
 template <int Dim, class ExecSpace>
-long long Simulation<Dim, ExecSpace>::drainage_lattice_index(const double* x) const {
+long long Simulation<Dim, ExecSpace>::lattice_point_index(const double* x) const {
   long long n = 0;
   for (int d = Dim - 1; d >= 0; --d) {
     const long long cells = std::llround(scene_.cell_size[d] / scene_.particle_spacing);
@@ -414,7 +427,7 @@ void Simulation<Dim, ExecSpace>::drain_phase_one() {
     if (kind(i) != kFluid) continue;
     double at[Dim];
     for (int d = 0; d < Dim; ++d) at[d] = x(i, d);
-    lattice.fluid[static_cast<size_t>(drainage_lattice_index(at))] = 1;
+    lattice.fluid[static_cast<size_t>(lattice_point_index(at))] = 1;
   }
   comm_.any(lattice.fluid);
   drainage_ = place_by_drainage(scene_.phases[1].drainage, lattice, scene_.particle_spacing);
@@ -452,6 +465,131 @@ void Simulation<Dim, ExecSpace>::place_surface_tension() {
     for (int d = 0; d < Dim; ++d) acceleration(i, d) = a[d];
   }
   Kokkos::deep_copy(particles_.phase_acceleration, acceleration);
+}
+
+// A moving interface's start: phi of each fluid particle from the phases'
+// placement (the share of its lattice cell in phase 1's box or disc, else
+// its phase), then the field on the lattice and the forces from it.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::start_interface() {
+  const double dx = scene_.particle_spacing;
+  const int samples = Dim == 2 ? 16 : 8;
+  const PhaseConfig& second = scene_.phases[1];
+  const bool placed_by_region = !second.drained() && !second.from_image();
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
+  const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);
+  const auto phase = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.phase);
+  auto colour = Kokkos::create_mirror_view(particles_.colour);
+  for (int i = 0; i < particles_.owned; ++i) {
+    double at[Dim];
+    for (int d = 0; d < Dim; ++d) at[d] = x(i, d);
+    colour(i) = kind(i) != kFluid    ? 0.0
+                : placed_by_region ? phase_one_fraction(scene_, at, dx, samples)
+                                   : static_cast<double>(phase(i));
+  }
+  Kokkos::deep_copy(particles_.colour, colour);
+  make_phase_field();
+  place_interface_forces();
+}
+
+// The lattice of the whole cell with the owned fluid particles' phi on
+// their points; every other point is solid (a grain, an image's solid, or
+// beyond a wall). The mobility's rule: the capillary speed sigma / mu of
+// the more viscous phase (the speed at which surface tension moves an
+// interface against viscosity; without surface tension the flow's velocity
+// scale), capped where the explicit update would take more than one
+// sub-step per time step.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::make_phase_field() {
+  const double dx = scene_.particle_spacing;
+  std::array<long long, Dim> cells{};
+  std::array<bool, Dim> periodic{};
+  for (int d = 0; d < Dim; ++d)
+    cells[d] = std::llround(scene_.cell_size[d] / dx), periodic[d] = scene_.periodic[d];
+  PhaseFieldSettings settings;
+  settings.width = scene_.interface_width * dx;
+  settings.cos_contact_angle = std::cos(scene_.contact_angle * 3.14159265358979323846 / 180);
+  double mobility = scene_.interface_mobility;
+  if (!(mobility > 0)) {
+    double mu = 0;
+    for (const auto& p : scene_.phases) mu = std::max(mu, p.density * p.kinematic_viscosity);
+    mobility = scene_.surface_tension > 0 && mu > 0 ? scene_.surface_tension / mu : derived_.velocity_scale;
+    const double one_substep =
+        0.5 * std::min(dx * dx / (2 * Dim * settings.width), dx) / derived_.time_step;  // gamma of stable_step = dt
+    mobility = std::min(mobility, one_substep);
+  }
+  settings.mobility = mobility;
+  std::size_t points = 1;
+  for (int d = 0; d < Dim; ++d) points *= static_cast<std::size_t>(cells[d]);
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
+  const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);
+  const auto colour = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.colour);
+  std::vector<char> fluid(points, 0);
+  std::vector<double> phi(points, 0.0);
+  for (int i = 0; i < particles_.owned; ++i) {
+    if (kind(i) != kFluid) continue;
+    double at[Dim];
+    for (int d = 0; d < Dim; ++d) at[d] = x(i, d);
+    const auto k = static_cast<std::size_t>(lattice_point_index(at));
+    fluid[k] = 1, phi[k] = colour(i);
+  }
+  phase_field_ = std::make_unique<LatticePhaseField<Dim>>(cells, periodic, dx, settings, std::move(fluid));
+  phase_field_->values() = std::move(phi);
+}
+
+// After the step: phi carried by the fluid's velocity over it, and the
+// phases and forces of the next step from the new phi.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::interface_stage() {
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
+  const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);
+  const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.v);
+  std::vector<Vec<Dim>> velocity(phase_field_->size(), Vec<Dim>::zero());
+  for (int i = 0; i < particles_.owned; ++i) {
+    if (kind(i) != kFluid) continue;
+    double at[Dim];
+    for (int d = 0; d < Dim; ++d) at[d] = x(i, d);
+    Vec<Dim>& u = velocity[static_cast<std::size_t>(lattice_point_index(at))];
+    for (int d = 0; d < Dim; ++d) u[d] = v(i, d);
+  }
+  phase_field_->advance(derived_.time_step, velocity);
+  place_interface_forces();
+}
+
+// Each fluid particle's phi from the field, its phase (1 where phi >= 1/2)
+// and its phase acceleration: the surface force sigma kappa grad(phi) / rho0
+// and, with one phase driven, the body force on its phase.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::place_interface_forces() {
+  const auto& phi = phase_field_->values();
+  const bool forces = particles_.has_phase_acceleration;
+  std::vector<Vec<Dim>> surface;
+  if (forces && scene_.surface_tension > 0) surface = phase_field_->surface_force(scene_.surface_tension);
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
+  const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);
+  auto colour = Kokkos::create_mirror_view(particles_.colour);
+  auto phase = Kokkos::create_mirror_view(particles_.phase);
+  auto acceleration = Kokkos::create_mirror_view(particles_.phase_acceleration);
+  Kokkos::deep_copy(phase, particles_.phase);
+  for (int i = 0; i < particles_.owned; ++i) {
+    if (kind(i) != kFluid) {
+      colour(i) = 0;
+      continue;
+    }
+    double at[Dim];
+    for (int d = 0; d < Dim; ++d) at[d] = x(i, d);
+    const auto k = static_cast<std::size_t>(lattice_point_index(at));
+    colour(i) = phi[k];
+    phase(i) = phi[k] >= 0.5 ? 1 : 0;
+    if (!forces) continue;
+    // The finish adds the body force itself unless one phase alone is driven.
+    Vec<Dim> a = scene_.driven_phase >= 0 ? scene_.phase_force_share(phase(i)) * body_force_ : Vec<Dim>::zero();
+    if (!surface.empty()) a += (1.0 / scene_.density) * surface[k];
+    for (int d = 0; d < Dim; ++d) acceleration(i, d) = a[d];
+  }
+  Kokkos::deep_copy(particles_.colour, colour);
+  Kokkos::deep_copy(particles_.phase, phase);
+  if (forces) Kokkos::deep_copy(particles_.phase_acceleration, acceleration);
 }
 
 // With one phase driven (Phases/Driven Phase), the body force enters each
@@ -841,6 +979,7 @@ void Simulation<Dim, ExecSpace>::make_step_stages() {
   step_stages_.push_back({"poresph::step::finish", &S::finish_stage});
   if (grains_move) step_stages_.push_back({"poresph::step::grain_loads", &S::grain_loads_stage});
   step_stages_.push_back({"poresph::step::correct", &S::correct_stage});
+  if (scene_.moving_interface) step_stages_.push_back({"poresph::step::interface", &S::interface_stage});
   if (grains_move) step_stages_.push_back({"poresph::step::grains_correct", &S::grains_correct_stage});
   if (particles_.has_shifting || (!fixed_ && !solid_map_.empty()))
     step_stages_.push_back({"poresph::step::constraints", &S::constraints_stage});
@@ -1092,6 +1231,8 @@ void Simulation<Dim, ExecSpace>::resume(long long steps, const typename Particle
       KOKKOS_LAMBDA(int i, long long& n) { n += kind(i) == kFluid; }, fluid);
   fluid_count_ = comm_.sum(fluid);
   total_count_ = comm_.sum(static_cast<long long>(particles_.owned));
+  // The particles brought their phi: the field is made again from it.
+  if (scene_.moving_interface) make_phase_field();
   // The particles brought their phases; the drainage's step and curve,
   // which summary.json reports, are made again from the same lattice.
   if (scene_.has_phases() && scene_.phases[1].drained()) {

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <chrono>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -28,6 +29,7 @@
 #include "physics/GridInterpolation.hpp"
 #include "physics/LatticeProducts.hpp"
 #include "physics/PairRates.hpp"
+#include "physics/PhaseField.hpp"
 #include "physics/RigidGrains.hpp"
 #include "physics/TimeStep.hpp"
 #include "physics/WallPressure.hpp"
@@ -161,6 +163,8 @@ class Simulation {
   // Phase 1 placed by drainage (scene/Drainage.hpp): its radius,
   // saturation and capillary pressure, and the drainage curve.
   const DrainagePlacement& drainage() const { return drainage_; }
+  // The phase field of a moving interface (Phases/Interface = moving); null otherwise.
+  const LatticePhaseField<Dim>* phase_field() const { return phase_field_.get(); }
   ParticleSet& particles() { return particles_; }
   const ParticleSet& particles() const { return particles_; }
 
@@ -312,11 +316,16 @@ class Simulation {
   void grains_correct_stage();   // "grains correct": the whole step, their particles placed
   void place_phases();           // at set-up: each particle's phase from its lattice point
   void drain_phase_one();        // at set-up: phase 1's points by drainage, on the whole lattice
-  long long drainage_lattice_index(const double* x) const;
+  long long lattice_point_index(const double* x) const;
   bool image_phase_one(const double* x) const;  // phase 1 by the image's labels
   void place_surface_tension();  // at set-up: each fluid particle's surface-tension acceleration
   void place_phase_body_force();  // at set-up: the body force on one phase into its particles' acceleration
   void add_phase_acceleration();  // in the finish: the phase acceleration into dv/dt
+  // A moving interface (Phases/Interface = moving, physics/PhaseField.hpp):
+  void start_interface();        // at set-up: phi from the phases' placement, the field, the forces
+  void make_phase_field();       // the lattice's field from the particles' phi (set-up, restart)
+  void interface_stage();        // "interface": phi carried over the step, the phases and forces from it
+  void place_interface_forces(); // each fluid particle's phi, phase and phase acceleration from the field
   // The force per phase a wall's pressure takes from the fluid beside it
   // (Phases/Driven Phase; empty with one force for all the fluid).
   PhaseBodyForce<Dim, MemorySpace> phase_body_force() const;
@@ -358,6 +367,7 @@ class Simulation {
   Vec<Dim> body_force_;
   SolidMap<Dim, MemorySpace> solid_map_;
   RigidGrains<Dim, ExecSpace> rigid_grains_;  // Grains/Motion = free or rotating
+  std::unique_ptr<LatticePhaseField<Dim>> phase_field_;  // Phases/Interface = moving
   DrainagePlacement drainage_;  // phase 1 placed by drainage: where, and the curve (not the points: freed)
   bool measure_balance_ = false;  // moving particles on 2 or more processes
   BalanceRecord balance_;

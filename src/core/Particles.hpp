@@ -71,6 +71,9 @@ struct Particles {
   // (physics/SurfaceTension.hpp) and, with one phase driven (Phases/Driven
   // Phase), the body force on that phase's particles. Empty without either.
   Vector phase_acceleration;
+  // A moving interface (Phases/Interface = moving): each owned particle's
+  // phase field phi (physics/PhaseField.hpp), 0 at a boundary particle.
+  Scalar colour;
 
   int owned = 0;
   int ghosts = 0;
@@ -81,6 +84,7 @@ struct Particles {
   bool has_grain_index = false;  // keep_grain_index()
   bool has_phase = false;        // keep_phase()
   bool has_phase_acceleration = false;  // keep_phase_acceleration()
+  bool has_colour = false;              // keep_colour()
 
   int total() const { return owned + ghosts; }
 
@@ -97,7 +101,7 @@ struct Particles {
     if (has_surfaces && !has_grain_index) f(wall_vector);  // else a changing field
     if (has_surfaces) f(wall_scalar);
     if (has_grain_index) f(grain);
-    if (has_phase) f(phase);
+    if (has_phase && !has_colour) f(phase);  // else a changing field
   }
   // What changes between neighbour-list rebuilds (ghost refresh): with
   // moving grains, a boundary particle's offset from its turning grain's
@@ -113,6 +117,7 @@ struct Particles {
     f(v), f(rho), f(p), f(pressure_term);
     if (!fixed_positions) f(inverse_density);
     if (has_grain_index) f(wall_vector);
+    if (has_colour) f(phase);  // a moving interface changes the particles' phases
   }
   // Everything an owned particle is, for migration to another process.
   template <class F>
@@ -124,6 +129,7 @@ struct Particles {
     if (has_shifting) f(shift), f(shift_velocity);
     if (has_level_start) f(v_level_start), f(p_level_start);
     if (has_phase_acceleration) f(phase_acceleration);
+    if (has_colour) f(colour);
   }
   int capacity() const { return static_cast<int>(x.extent(0)); }              // slots a ghost may take
   int owned_capacity() const { return static_cast<int>(v_start.extent(0)); }  // slots an owned particle may take
@@ -145,6 +151,12 @@ struct Particles {
     has_phase_acceleration = true;
     if (static_cast<int>(phase_acceleration.extent(0)) < owned_capacity())
       phase_acceleration = Vector("phase_acceleration", owned_capacity());
+  }
+
+  // From now on each owned particle carries its phase field (0 until set).
+  void keep_colour() {
+    has_colour = true;
+    if (static_cast<int>(colour.extent(0)) < owned_capacity()) colour = Scalar("colour", owned_capacity());
   }
 
   // From now on the particles carry their level start (v_level_start, p_level_start).
@@ -206,6 +218,7 @@ struct Particles {
     if (has_surfaces) f(wall_drag, "wall_drag");
     if (has_shifting) f(shift, "shift"), f(shift_velocity, "shift_velocity");
     if (has_phase_acceleration) f(phase_acceleration, "phase_acceleration");
+    if (has_colour) f(colour, "colour");
   }
 };
 

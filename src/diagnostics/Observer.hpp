@@ -55,6 +55,11 @@ struct PhaseMeasure {
   double relative_permeability_extrapolated = 0, relative_permeability_uncertainty = 0;
   double mass = 0;                   // of its particles (kg per m^(3-Dim)); fixed particles keep it exactly
   double mean_pressure = 0;          // its volume-weighted mean p (Pa): phase 1's less phase 0's is the capillary pressure
+  // A moving interface (Phases/Interface = moving): its volume by the phase
+  // field, sum of phi dV (phase 1) or (1 - phi) dV (phase 0) over the fluid,
+  // which the field's update conserves to round-off.
+  bool has_phase_field = false;
+  double phase_field_volume = 0;
 };
 // A round phase-1 region (a drop) against Laplace's law (diagnostics/PhaseProbe.hpp).
 struct CapillaryMeasure {

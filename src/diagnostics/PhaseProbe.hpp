@@ -138,6 +138,13 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
     m.has_relative_permeability = k > 0 && force > 0;
     if (m.has_relative_permeability)
       m.relative_permeability = m.superficial_velocity * scene.phases[p].kinematic_viscosity / force / k;
+    if (const auto* field = sim.phase_field()) {  // on one process: the whole lattice
+      double dV = 1.0;
+      for (int d = 0; d < scene.dimension; ++d) dV *= scene.particle_spacing;
+      const double one = field->amount() * dV;
+      m.has_phase_field = true;
+      m.phase_field_volume = p == 1 ? one : fluid - one;
+    }
     measures.push_back(m);
   }
   return measures;
@@ -168,7 +175,11 @@ class PhaseProbe : public Observer<Sim> {
   }
   void at_end(Sim& sim) override {
     measures_ = measure_phases(sim, scene_, axis_);
-    if (scene_.surface_tension > 0 && scene_.phases[1].round()) capillary_ = measure_capillary(sim, scene_);
+    // A drop held where it was put (a moving one beside a solid goes elsewhere).
+    const bool drop_in_place =
+        !scene_.moving_interface || (!scene_.has_solid() && scene_.walls == WallType::None);
+    if (scene_.surface_tension > 0 && scene_.phases[1].round() && drop_in_place)
+      capillary_ = measure_capillary(sim, scene_);
     if (scene_.phases[1].drained()) drainage_ = drainage_measure(sim.drainage(), scene_.phases[1].drainage);
   }
   void report(StageObservations& o) const override {

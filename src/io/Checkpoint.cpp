@@ -127,6 +127,13 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
       entries.emplace_back("Phases/Surface Tension", number(scene.surface_tension));
       entries.emplace_back("Phases/Colour", scene.colour == ColourFunction::Phase ? "phase" : "volume fraction");
     }
+    // A moving interface's field is in the particles (colour); how it moves is the scene's.
+    if (scene.moving_interface) {
+      entries.emplace_back("Phases/Interface", "moving");
+      entries.emplace_back("Phases/Interface Width", number(scene.interface_width));
+      entries.emplace_back("Phases/Interface Mobility", number(scene.interface_mobility));
+      entries.emplace_back("Phases/Contact Angle", number(scene.contact_angle));
+    }
   }
   // The image by its shape, voxel size, solid values and a checksum of its
   // voxels (after Image/Mirror): another image, or the same read otherwise,

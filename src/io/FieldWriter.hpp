@@ -82,6 +82,7 @@ class FieldWriter {
       if (wants("grain")) file.write_rows("grain", owned_rows(sim.grain_ids(), n).data(), n, 0);
       if (wants("id")) file.write_rows("id", owned_rows(P.id, n).data(), n, 0);
       if (wants("phase")) file.write_rows("phase", fluid_phases(P, n).data(), n, 0);
+      if (wants("colour")) file.write_rows("colour", owned_rows(P.colour, n).data(), n, 0);
       if (!scene_.grid_points.empty()) write_grid(file, block, grid_values);
       if (scene_.moving_grains()) write_grains(file, sim.rigid_grains().bodies(), comm.rank() == 0);
     });
@@ -201,6 +202,7 @@ class FieldWriter {
       if (f == "grain") frame.attributes.push_back({"grain", "/grain", scalar, false, true, 4});
       if (f == "id") frame.attributes.push_back({"id", "/id", scalar, false, true, 8});
       if (f == "phase") frame.attributes.push_back({"phase", "/phase", scalar, false, true, 4});
+      if (f == "colour") frame.attributes.push_back({"colour", "/colour", scalar, false, false, 8});
     }
     particle_frames_.push_back(frame);
     if (scene_.moving_grains()) {

@@ -151,10 +151,12 @@ RCP<ParameterList> make_valid_parameters() {
     auto& s = list->sublist("Phases", false,
                             "Two immiscible fluids on fixed particles (Discretization/Particle Motion = fixed): phase "
                             "0 is the Fluid sublist's fluid and fills the cell but for the region of phase 1, which "
-                            "is set once at the start (a particle never changes phase). The viscous term between "
-                            "two particles takes the harmonic mean of their dynamic viscosities, which keeps the "
+                            "is set at the start (with Interface = fixed a particle never changes phase). The "
+                            "viscous term between two particles takes the harmonic mean of their dynamic viscosities, "
+                            "which keeps the "
                             "shear stress continuous across an interface (docs/method.md). With Surface Tension > 0 "
-                            "the interface pulls by the continuum surface force; no wetting yet.");
+                            "the interface pulls by the continuum surface force. With Interface = moving the phases "
+                            "follow the flow as a phase field, and wet the solids by Contact Angle.");
     s.set("Count", 1,
           "Number of fluid phases: 1 (the Fluid sublist's alone; the rest of this sublist must be left out) or 2.",
           int_in(1, 2));
@@ -166,8 +168,9 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Surface Tension", 0.0,
           "Surface tension sigma between the two phases (N/m), >= 0; 0: none. The continuum surface force "
           "sigma kappa n / rho of Morris (2000) from a colour function on the fixed lattice, computed once at "
-          "set-up (docs/method.md). Needs Count = 2, a cell periodic in every direction and no grains, image "
-          "or walls (no wetting yet).",
+          "set-up (docs/method.md); with Interface = fixed it needs Count = 2, a cell periodic in every "
+          "direction and no grains, image or walls. With Interface = moving: sigma kappa grad(phi) / rho from "
+          "the phase field, every step, with wetting on any solid.",
           real_in(0.0, kHuge));
     s.set("Colour", std::string("volume fraction"),
           "The colour function the surface tension's normals and curvature are taken from: 'volume fraction' "
@@ -181,6 +184,28 @@ RCP<ParameterList> make_valid_parameters() {
           "k_r,ij = (U_i mu_i / (rho_j |F|)) / k; over the two one-phase runs they add up to the run with both "
           "driven (docs/method.md).",
           one_of({"both", "0", "1"}));
+    s.set("Interface", std::string("fixed"),
+          "'fixed': each particle keeps the phase it is given at the start, and the interface stays where it was "
+          "put. 'moving': the phases are a phase field phi (1 in phase 1, 0 in phase 0) on the fixed lattice, "
+          "carried by the flow and kept a layer of Interface Width by the conservative Allen-Cahn equation; a "
+          "particle is of phase 1 where phi >= 1/2, the surface tension is taken from phi every step, and the "
+          "solids wet by Contact Angle (docs/method.md). Moving needs Solver/Method = explicit, one process and "
+          "Convergence/Levels = 1.",
+          one_of({"fixed", "moving"}));
+    s.set("Interface Width", 1.0,
+          "With Interface = moving: the phase field's layer width epsilon in particle spacings (phi = 1 / (1 + "
+          "exp(-s / epsilon)) across it), from 0.5 to 4.",
+          real_in(0.5, 4.0));
+    s.set("Interface Mobility", 0.0,
+          "With Interface = moving: the Allen-Cahn mobility gamma (m/s), >= 0, how fast the layer is kept at its "
+          "width; 0: the capillary speed sigma / mu of the more viscous phase, capped where the explicit update "
+          "would need more than one sub-step per time step (docs/method.md).",
+          real_in(0.0, kHuge));
+    s.set("Contact Angle", 90.0,
+          "With Interface = moving: the static contact angle on every solid (grains, image, walls), in degrees "
+          "from 0 to 180, measured through phase 0 (as Phase 1/Drainage/Contact Angle): below 90 phase 0 wets "
+          "the solid.",
+          real_in(0.0, 180.0));
     auto& p = s.sublist("Phase 1", false,
                         "The second fluid and the region it fills (with Count = 2): a box (Region Low, Region "
                         "High), a disc/sphere (Region Centre, Region Radius) or the Drainage sublist's rule: "
@@ -554,7 +579,8 @@ RCP<ParameterList> make_valid_parameters() {
     s.set("Fields", std::string("velocity density pressure kind grain id"),
           "Particle fields in each field file, separated by spaces or commas, out of: velocity density "
           "pressure kind grain id phase (with Phases/Count = 2: a fluid particle's phase, 0 or 1; -1 for "
-          "boundary particles). Positions are always written.");
+          "boundary particles) colour (with Phases/Interface = moving: its phase field phi, 0 at boundary "
+          "particles). Positions are always written.");
     s.set("Grid Points", Array<int>(),
           "Points per direction of a regular grid of the cell on which the SPH-interpolated velocity and "
           "pressure are written with each field file (ParaView shows it as an image). Empty: no grid.",

@@ -29,7 +29,11 @@ void write_particles_csv(const Sim& sim, const std::string& path) {
   std::string header = "id,kind";
   for (int d = 0; d < Dim; ++d) header += std::string(",") + "xyz"[d];
   for (int d = 0; d < Dim; ++d) header += std::string(",v") + "xyz"[d];
-  header += phases ? ",rho,p,phase\n" : ",rho,p\n";
+  // A moving interface: each particle's phase field phi after its phase.
+  const bool colours = P.has_colour;
+  auto colour = Kokkos::create_mirror_view(P.colour);
+  if (colours) Kokkos::deep_copy(colour, P.colour);
+  header += phases ? (colours ? ",rho,p,phase,phi\n" : ",rho,p,phase\n") : ",rho,p\n";
   std::string text;
   char buffer[64];
   for (int i = 0; i < P.owned; ++i) {
@@ -44,7 +48,9 @@ void write_particles_csv(const Sim& sim, const std::string& path) {
     for (int d = 0; d < Dim; ++d) std::snprintf(buffer, sizeof buffer, ",%.10g", v(i, d)), text += buffer;
     std::snprintf(buffer, sizeof buffer, ",%.12g,%.10g", rho(i), p(i));
     text += buffer;
-    text += phases ? "," + std::to_string(int(phase(i))) + "\n" : "\n";
+    if (phases) text += "," + std::to_string(int(phase(i)));
+    if (colours) std::snprintf(buffer, sizeof buffer, ",%.12g", colour(i)), text += buffer;
+    text += "\n";
   }
   const std::string all = sim.communicator().gather_text(text);
   if (sim.communicator().rank() == 0) write_file_atomically(path, header + all);

@@ -2,7 +2,8 @@
 // phases_history.csv: two fluids over a run (diagnostics/PhaseProbe.hpp),
 // one row every check interval and at the end: each phase's superficial
 // velocity along the driven axis and its volume-weighted mean pressure,
-// and the capillary pressure, phase 1's mean pressure less phase 0's. The
+// and the capillary pressure, phase 1's mean pressure less phase 0's (with
+// a moving interface, each phase's volume by the phase field too). The
 // measures are sums over all processes; the first writes. Every write is
 // checked (io/HistoryFile.hpp); a restart in the run's own directory keeps
 // the rows its checkpoint counts and goes on from there.
@@ -27,7 +28,10 @@ class PhasesHistory : public ScheduledHistory<Sim> {
     std::string header = "step,time";
     for (size_t p = 0; p < scene.phases.size(); ++p)
       header += ",superficial_velocity_" + std::to_string(p) + ",mean_pressure_" + std::to_string(p);
-    header += ",capillary_pressure\n";
+    header += ",capillary_pressure";
+    if (scene.moving_interface)
+      for (size_t p = 0; p < scene.phases.size(); ++p) header += ",phase_field_volume_" + std::to_string(p);
+    header += "\n";
     if (sim.communicator().rank() == 0) this->file_.open(path, header, continuing, rows_before);
     if (!continuing) write(sim);
   }
@@ -59,6 +63,8 @@ class PhasesHistory : public ScheduledHistory<Sim> {
     put(sim.time());
     for (const auto& m : measures) put(m.superficial_velocity), put(m.mean_pressure);
     put(measures[1].mean_pressure - measures[0].mean_pressure);
+    for (const auto& m : measures)
+      if (m.has_phase_field) put(m.phase_field_volume);
     *out << "\n";
     this->file_.check();
   }

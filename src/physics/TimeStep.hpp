@@ -20,13 +20,22 @@ struct TimeStepLimits {
   double viscous;   // 0.125 h^2 / nu
   double force;     // 0.25 sqrt(h / |F|)
   double contact = std::numeric_limits<double>::infinity();  // the shortest grain collision over 40 (ContactLaw.hpp)
-  double smallest() const { return std::min({acoustic, viscous, force, contact}); }
+  double capillary = std::numeric_limits<double>::infinity();  // a moving interface: capillary_time_step
+  double smallest() const { return std::min({acoustic, viscous, force, contact, capillary}); }
 };
 
 inline TimeStepLimits time_step_limits(double h, double sound_speed, double nu, double body_force_norm) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   return {sound_speed > 0 ? 0.25 * h / sound_speed : inf, nu > 0 ? 0.125 * h * h / nu : inf,
           body_force_norm > 0 ? 0.25 * std::sqrt(h / body_force_norm) : inf};
+}
+
+// The capillary wave limit of a moving interface with surface tension
+// sigma, 0.25 sqrt(rho h^3 / (2 pi sigma)) (Brackbill, Kothe & Zemach 1992;
+// Morris 2000).
+inline double capillary_time_step(double h, double density, double sigma) {
+  constexpr double pi = 3.14159265358979323846;
+  return sigma > 0 ? 0.25 * std::sqrt(density * h * h * h / (2 * pi * sigma)) : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace poresph

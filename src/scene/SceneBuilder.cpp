@@ -311,7 +311,16 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
       drained || trapping || contact_angle != 0 || drain_sigma != 0 || inlet != "x";
   const auto image_values = second.get<Array<int>>("Image Values");
   const bool labelled = !image_values.empty();
+  const bool moving = phases.get<std::string>("Interface") == "moving";
+  const double width = phases.get<double>("Interface Width"), mobility = phases.get<double>("Interface Mobility");
+  const double wetting_angle = phases.get<double>("Contact Angle");
+  // What only a moving interface reads, named when it would be ignored.
+  std::string moving_only;
+  if (width != 1.0) moving_only = "Interface Width";
+  if (mobility != 0) moving_only = "Interface Mobility";
+  if (wetting_angle != 90.0) moving_only = "Contact Angle";
   if (count == 1) {
+    if (moving) fail("Phases/Interface = moving moves the interface between two phases, and Phases/Count = 1");
     if (nu != 0 || density != 0 || !low.empty() || !high.empty() || !centre.empty() || radius != 0 ||
         drainage_given || labelled ||
         second.get<std::string>("Name") != "phase 1")
@@ -480,12 +489,23 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
     }
     inside.region_radius = radius;
   }
-  if (sigma > 0) {
+  if (!moving && !moving_only.empty())
+    fail("Phases/" + moving_only + " is read with Phases/Interface = moving only (the phase field); with Interface "
+         "= fixed the phases stay where they were put and nothing wets: set Interface = moving, or leave it out");
+  if (moving) {
+    if (scene.steady_solver)
+      fail("Phases/Interface = moving follows the interface in time; Solver/Method = steady solves for a flow whose "
+           "phases stay put: use Solver/Method = explicit");
+    if (scene.convergence_levels > 1)
+      fail("Phases/Interface = moving with Convergence/Levels > 1 is not supported: a level would start from the "
+           "coarser level's flow but not from its interface");
+  }
+  if (sigma > 0 && !moving) {
     bool all_periodic = true;
     for (int d = 0; d < dim; ++d) all_periodic = all_periodic && scene.periodic[d];
     if (scene.has_solid() || scene.walls != WallType::None || !all_periodic)
-      fail("Phases/Surface Tension needs a cell periodic in every direction without grains, an image or walls: "
-           "boundary particles carry no colour and there is no wetting yet");
+      fail("Phases/Surface Tension with Phases/Interface = fixed needs a cell periodic in every direction without "
+           "grains, an image or walls: boundary particles carry no colour there (Interface = moving wets them)");
   }
   if (scene.permeability_tensor)
     fail("Permeability/Tensor with Phases/Count = 2 is not supported: the phases report their flux along the one "
@@ -510,6 +530,10 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   scene.driven_phase = driven == "both" ? -1 : std::stoi(driven);
   scene.single_phase_permeability = k;
   scene.surface_tension = sigma;
+  scene.moving_interface = moving;
+  scene.interface_width = width;
+  scene.interface_mobility = mobility;
+  scene.contact_angle = wetting_angle;
   scene.colour = phases.get<std::string>("Colour") == "phase" ? ColourFunction::Phase : ColourFunction::VolumeFraction;
 }
 
@@ -748,9 +772,11 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
       if (c == ',') c = ' ';
     std::istringstream in(words);
     for (std::string word; in >> word;) {
-      static const char* const known[] = {"velocity", "density", "pressure", "kind", "grain", "id", "phase"};
+      static const char* const known[] = {"velocity", "density", "pressure", "kind", "grain", "id", "phase",
+                                          "colour"};
       if (std::find(std::begin(known), std::end(known), word) == std::end(known))
-        fail("Output/Fields: unknown field '" + word + "' (known: velocity density pressure kind grain id phase)");
+        fail("Output/Fields: unknown field '" + word +
+             "' (known: velocity density pressure kind grain id phase colour)");
       if (std::find(scene.fields.begin(), scene.fields.end(), word) == scene.fields.end())
         scene.fields.push_back(word);
     }
@@ -774,6 +800,9 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   read_phases(list, scene);
   if (!scene.has_phases() && std::find(scene.fields.begin(), scene.fields.end(), "phase") != scene.fields.end())
     fail("Output/Fields names 'phase', and the scene has one fluid (set Phases/Count = 2, or leave it out)");
+  if (!scene.moving_interface &&
+      std::find(scene.fields.begin(), scene.fields.end(), "colour") != scene.fields.end())
+    fail("Output/Fields names 'colour', the phase field of Phases/Interface = moving, and this scene has none");
   return scene;
 }
 

@@ -187,6 +187,12 @@ struct SceneConfig {
   // Phases/Driven Phase: the phase the body force acts on (0 or 1); -1:
   // both. The other phase is moved only by its neighbours (viscous coupling).
   int driven_phase = -1;
+  // Phases/Interface = moving: the phases are a phase field carried by the
+  // flow (physics/PhaseField.hpp); fixed (false): each particle keeps its phase.
+  bool moving_interface = false;
+  double interface_width = 1.0;     // Phases/Interface Width, in particle spacings
+  double interface_mobility = 0.0;  // Phases/Interface Mobility (m/s); 0: the rule of Simulation
+  double contact_angle = 90.0;      // Phases/Contact Angle (degrees, through phase 0) on every solid
   bool has_phases() const { return !phases.empty(); }
   // The body force's share on a phase: 1 where it acts, 0 where it does not.
   double phase_force_share(int phase) const { return driven_phase < 0 || driven_phase == phase ? 1.0 : 0.0; }
