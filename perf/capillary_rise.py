@@ -1,0 +1,152 @@
+#!/usr/bin/python3
+"""Capillary rise between two plates (input/two_phase/capillary_rise.xml) against Jurin's law.
+
+Reads a run's parameters_used.xml and its final particles.csv (or, with --fields, every
+fields_*.h5 with the `colour` field), finds on the vertical line through the middle of the gap
+between the plates and through the middle of the gap outside them (across the periodic side)
+the height where phi falls through 1/2 going up (the meniscus's lowest point), and compares
+their difference with Jurin's for two gaps of widths w (inside) and W (outside):
+
+    dh = (2 sigma cos(theta) / (rho |F|)) (1/w - 1/W)
+
+theta through the liquid (phase 1, the driven one): 180 degrees less Phases/Contact Angle.
+The plates are read from the image: the solid columns of its middle row, and their lower end.
+
+With --fields, each frame's inner height is set beside the Lucas-Washburn law of the narrow gap
+with gravity: Poiseuille flow between plates, mean speed w^2 / (12 mu) times the driving pressure
+rho |F| (dh_Jurin - dh) over the column's length from the plates' lower end to the meniscus, the
+outer level falling by w / W of the inner rise; integrated from the first frame. It leaves out the
+liquid's inertia, the flow into the gap from below and the contact line's own resistance.
+
+    perf/capillary_rise.py RUN_DIR [--fields] [--json]
+"""
+import argparse
+import csv
+import glob
+import json
+import math
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+
+def parameter(root, path):
+    node = root
+    for name in path.split("/")[:-1]:
+        node = next(n for n in node.findall("ParameterList") if n.get("name") == name)
+    leaf = next(n for n in node.findall("Parameter") if n.get("name") == path.split("/")[-1])
+    return leaf.get("value")
+
+
+def numbers(text):
+    return [float(v) for v in text.strip("{} ").split(",")]
+
+
+def plates(run, root):
+    """The solid columns of the image's middle row, grouped into the plates' x extents (voxels)."""
+    shape = [int(v) for v in numbers(parameter(root, "Image/Shape"))]
+    path = parameter(root, "Image/File")
+    # Relative to the scene's folder, which the run does not record: tried beside the run, here, and
+    # in the shipped scenes' folder.
+    shipped = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "input", "two_phase")
+    found = [p for p in (os.path.join(run, "..", path), path, os.path.join(shipped, path)) if os.path.exists(p)]
+    if not os.path.isabs(path) and not found:
+        sys.exit(f"{run}: cannot find the image {path}")
+    image = np.fromfile(path if os.path.isabs(path) else found[0], dtype=np.uint8)
+    solid = set(int(v) for v in numbers(parameter(root, "Image/Solid Values")))
+    row = image.reshape(shape[1], shape[0])[shape[1] // 2]
+    columns = [i for i in range(shape[0]) if int(row[i]) in solid]
+    groups = []
+    for i in columns:
+        if groups and i == groups[-1][1]:
+            groups[-1][1] = i + 1
+        else:
+            groups.append([i, i + 1])
+    if len(groups) != 2:
+        sys.exit(f"{run}: the image's middle row holds {len(groups)} solid runs, not two plates")
+    grid = image.reshape(shape[1], shape[0])
+    bottom = min(j for j in range(shape[1]) if int(grid[j, groups[0][0]]) in solid)
+    return groups, shape[0], bottom
+
+
+def meniscus(column):
+    """The height (in spacings) where phi falls through 1/2 going up, the highest such crossing."""
+    js = sorted(column)
+    height = None
+    for a, b in zip(js, js[1:]):
+        if b == a + 1 and column[a] >= 0.5 > column[b]:
+            height = a + 0.5 + (column[a] - 0.5) / (column[a] - column[b])
+    return height
+
+
+def heights(x, y, phi, dx, inner, outer):
+    columns = {inner: {}, outer: {}}
+    for xi, yi, p in zip(x, y, phi):
+        i, j = round(xi / dx - 0.5), round(yi / dx - 0.5)
+        if i in columns:
+            columns[i][j] = p
+    return meniscus(columns[inner]), meniscus(columns[outer])
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("run")
+    parser.add_argument("--fields", action="store_true", help="every field file's heights over time")
+    parser.add_argument("--json", action="store_true")
+    args = parser.parse_args()
+    root = ET.parse(os.path.join(args.run, "parameters_used.xml")).getroot()
+    dx = float(parameter(root, "Discretization/Particle Spacing"))
+    sigma = float(parameter(root, "Phases/Surface Tension"))
+    theta = math.radians(180 - float(parameter(root, "Phases/Contact Angle")))
+    rho = float(parameter(root, "Fluid/Density"))
+    force = math.hypot(*numbers(parameter(root, "Fluid/Body Force")))
+    ((a0, a1), (b0, b1)), n, bottom = plates(args.run, root)
+    w, W = (b0 - a1), n - (b1 - a0)
+    inner, outer = (a1 + b0) // 2, ((b1 + a0 + n) // 2) % n
+    jurin = 2 * sigma * math.cos(theta) / (rho * force) * (1 / (w * dx) - 1 / (W * dx)) / dx
+    mu = rho * float(parameter(root, "Phases/Phase 1/Kinematic Viscosity"))
+    result = {"gap": w, "outer_gap": W, "jurin_difference": jurin, "rows": []}
+    if args.fields:
+        import h5py
+        for name in sorted(glob.glob(os.path.join(args.run, "fields_*.h5")),
+                           key=lambda f: int(os.path.basename(f)[7:-3])):
+            with h5py.File(name, "r") as f:
+                pos, phi, kind = np.asarray(f["position"]), np.asarray(f["colour"]), np.asarray(f["kind"])
+                time = float(f.attrs["time"])
+            fluid = kind == 0
+            hi, ho = heights(pos[fluid, 0], pos[fluid, 1], phi[fluid], dx, inner, outer)
+            result["rows"].append({"time": time, "inner": hi, "outer": ho})
+        # Lucas-Washburn with gravity, in spacings and seconds, from the first frame.
+        first = result["rows"][0]
+        h, t, speed = first["inner"], first["time"], (w * dx) ** 2 * rho * force / (12 * mu) / dx
+        for row in result["rows"]:
+            while t < row["time"] - 1e-12:
+                step = min(1e-5, row["time"] - t)
+                outer = first["outer"] - (w / W) * (h - first["inner"])
+                h += step * speed * (jurin - (h - outer)) / (h - bottom)
+                t += step
+            row["washburn_inner"] = h
+    else:
+        x, y, phi = [], [], []
+        with open(os.path.join(args.run, "particles.csv")) as f:
+            for r in csv.DictReader(f):
+                if r["kind"] == "0":
+                    x.append(float(r["x"])), y.append(float(r["y"])), phi.append(float(r["phi"]))
+        hi, ho = heights(x, y, phi, dx, inner, outer)
+        result["rows"].append({"time": None, "inner": hi, "outer": ho})
+    if args.json:
+        print(json.dumps(result))
+        return
+    print(f"gaps {w} and {W} spacings; Jurin's difference {jurin:.2f} spacings")
+    for r in result["rows"]:
+        when = "end" if r["time"] is None else f"t = {r['time']:.4g} s"
+        d = r["inner"] - r["outer"]
+        washburn = f", Lucas-Washburn's inner {r['washburn_inner']:.2f}" if "washburn_inner" in r else ""
+        print(f"{when}: inner {r['inner']:.2f}, outer {r['outer']:.2f}, difference {d:.2f} "
+              f"({100 * (d / jurin - 1):+.1f} % of Jurin's){washburn}")
+
+
+if __name__ == "__main__":
+    main()
