@@ -44,21 +44,35 @@ double centroid_x(const LatticePhaseField<2>& f) {
   return moment / amount;
 }
 
+// A cell with walls below and above and a square grain, wetted at 40 degrees.
+LatticePhaseField<2> walled_cell_with_grain(long long nx, long long ny) {
+  std::vector<char> fluid(static_cast<std::size_t>(nx * ny), 1);
+  for (long long j = 10; j < 16; ++j)
+    for (long long i = 22; i < 30; ++i) fluid[static_cast<std::size_t>(j * nx + i)] = 0;
+  return field(nx, ny, true, 40, 0.5, fluid);
+}
+
+// phi and the velocity at each lattice point from set(x, y, phi, v), the
+// point's position in spacings; returns the velocities.
+template <class Set>
+std::vector<Vec<2>> set_by_position(LatticePhaseField<2>& f, Set&& set) {
+  std::vector<Vec<2>> u(f.size(), Vec<2>::zero());
+  for (std::size_t k = 0; k < f.size(); ++k) {
+    const auto i = f.point(k);
+    set(static_cast<double>(i[0]) + 0.5, static_cast<double>(i[1]) + 0.5, f.values()[k], u[k]);
+  }
+  return u;
+}
+
 // Any flow, one with divergence too, by walls and a grain: the advection's
 // gain or loss is given back within the layer.
 TEST(PhaseField, AmountIsConservedByAnyFlowWallsAndGrains) {
   const long long nx = 40, ny = 30;
-  std::vector<char> fluid(nx * ny, 1);
-  for (long long j = 10; j < 16; ++j)  // a square grain
-    for (long long i = 22; i < 30; ++i) fluid[j * nx + i] = 0;
-  auto f = field(nx, ny, true, 40, 0.5, fluid);
-  std::vector<Vec<2>> u(f.size());
-  for (std::size_t k = 0; k < f.size(); ++k) {
-    const auto i = f.point(k);
-    const double x = static_cast<double>(i[0]) + 0.5, y = static_cast<double>(i[1]) + 0.5;
-    f.values()[k] = phase_field_profile(8 - std::hypot(x - 12, y - 14), 1.0);
-    u[k] = Vec<2>{{0.3 * std::sin(2 * kPi * y / ny), 0.2 * std::cos(2 * kPi * x / nx) + 0.05 * x / nx}};
-  }
+  auto f = walled_cell_with_grain(nx, ny);
+  const auto u = set_by_position(f, [&](double x, double y, double& phi, Vec<2>& v) {
+    phi = phase_field_profile(8 - std::hypot(x - 12, y - 14), 1.0);
+    v = Vec<2>{{0.3 * std::sin(2 * kPi * y / ny), 0.2 * std::cos(2 * kPi * x / nx) + 0.05 * x / nx}};
+  });
   const double start = f.amount();
   for (int step = 0; step < 400; ++step) f.advance(0.1, u);
   EXPECT_NEAR(f.amount(), start, 1e-12 * start);
@@ -71,17 +85,11 @@ TEST(PhaseField, AmountIsConservedByAnyFlowWallsAndGrains) {
 // pile phi up where the flow converges).
 TEST(PhaseField, CompressingFlowLeavesTheBulkAlone) {
   const long long nx = 40, ny = 30;
-  std::vector<char> fluid(nx * ny, 1);
-  for (long long j = 10; j < 16; ++j)  // a square grain
-    for (long long i = 22; i < 30; ++i) fluid[j * nx + i] = 0;
-  auto f = field(nx, ny, true, 40, 0.5, fluid);
-  std::vector<Vec<2>> u(f.size());
-  for (std::size_t k = 0; k < f.size(); ++k) {
-    const auto i = f.point(k);
-    const double x = static_cast<double>(i[0]) + 0.5, y = static_cast<double>(i[1]) + 0.5;
-    f.values()[k] = 1.0;
-    u[k] = Vec<2>{{0.2 * std::sin(2 * kPi * x / nx), 0.1 * std::sin(kPi * y / ny)}};
-  }
+  auto f = walled_cell_with_grain(nx, ny);
+  const auto u = set_by_position(f, [&](double x, double y, double& phi, Vec<2>& v) {
+    phi = 1.0;
+    v = Vec<2>{{0.2 * std::sin(2 * kPi * x / nx), 0.1 * std::sin(kPi * y / ny)}};
+  });
   for (int step = 0; step < 2000; ++step) f.advance(0.1, u);
   for (std::size_t k = 0; k < f.size(); ++k)
     if (f.fluid(k)) {
