@@ -489,7 +489,7 @@ void Simulation<Dim, ExecSpace>::start_interface() {
   }
   Kokkos::deep_copy(particles_.colour, colour);
   make_phase_field();
-  place_interface_forces();
+  place_interface_forces(fluid_lattice_points());
 }
 
 // The lattice of the whole cell with the owned fluid particles' phi on
@@ -521,18 +521,12 @@ void Simulation<Dim, ExecSpace>::make_phase_field() {
   settings.mobility = mobility;
   std::size_t points = 1;
   for (int d = 0; d < Dim; ++d) points *= static_cast<std::size_t>(cells[d]);
-  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
-  const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);
   const auto colour = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.colour);
   std::vector<char> fluid(points, 0);
   std::vector<double> phi(points, 0.0);
-  for (int i = 0; i < particles_.owned; ++i) {
-    if (kind(i) != kFluid) continue;
-    double at[Dim];
-    for (int d = 0; d < Dim; ++d) at[d] = x(i, d);
-    const auto k = static_cast<std::size_t>(lattice_point_index(at));
-    fluid[k] = 1, phi[k] = colour(i);
-  }
+  const std::vector<long long> at = fluid_lattice_points();
+  for (int i = 0; i < particles_.owned; ++i)
+    if (at[i] >= 0) fluid[static_cast<std::size_t>(at[i])] = 1, phi[static_cast<std::size_t>(at[i])] = colour(i);
   phase_field_ = std::make_unique<LatticePhaseField<Dim>>(cells, periodic, dx, settings, std::move(fluid));
   phase_field_->values() = std::move(phi);
 }
@@ -541,44 +535,53 @@ void Simulation<Dim, ExecSpace>::make_phase_field() {
 // phases and forces of the next step from the new phi.
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::interface_stage() {
+  const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.v);
+  const std::vector<long long> at = fluid_lattice_points();
+  std::vector<Vec<Dim>> velocity(phase_field_->size(), Vec<Dim>::zero());
+  for (int i = 0; i < particles_.owned; ++i) {
+    if (at[i] < 0) continue;
+    Vec<Dim>& u = velocity[static_cast<std::size_t>(at[i])];
+    for (int d = 0; d < Dim; ++d) u[d] = v(i, d);
+  }
+  phase_field_->advance(derived_.time_step, velocity);
+  place_interface_forces(at);
+}
+
+// Each owned particle's lattice point (lattice_point_index) if it is a
+// fluid particle, -1 if it is a boundary particle.
+template <int Dim, class ExecSpace>
+std::vector<long long> Simulation<Dim, ExecSpace>::fluid_lattice_points() const {
   const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
   const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);
-  const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.v);
-  std::vector<Vec<Dim>> velocity(phase_field_->size(), Vec<Dim>::zero());
+  std::vector<long long> points(static_cast<std::size_t>(particles_.owned), -1);
   for (int i = 0; i < particles_.owned; ++i) {
     if (kind(i) != kFluid) continue;
     double at[Dim];
     for (int d = 0; d < Dim; ++d) at[d] = x(i, d);
-    Vec<Dim>& u = velocity[static_cast<std::size_t>(lattice_point_index(at))];
-    for (int d = 0; d < Dim; ++d) u[d] = v(i, d);
+    points[i] = lattice_point_index(at);
   }
-  phase_field_->advance(derived_.time_step, velocity);
-  place_interface_forces();
+  return points;
 }
 
 // Each fluid particle's phi from the field, its phase (1 where phi >= 1/2)
 // and its phase acceleration: the surface force sigma kappa grad(phi) / rho0
 // and, with one phase driven, the body force on its phase.
 template <int Dim, class ExecSpace>
-void Simulation<Dim, ExecSpace>::place_interface_forces() {
+void Simulation<Dim, ExecSpace>::place_interface_forces(const std::vector<long long>& at) {
   const auto& phi = phase_field_->values();
   const bool forces = particles_.has_phase_acceleration;
   std::vector<Vec<Dim>> surface;
   if (forces && scene_.surface_tension > 0) surface = phase_field_->surface_force(scene_.surface_tension);
-  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
-  const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);
   auto colour = Kokkos::create_mirror_view(particles_.colour);
   auto phase = Kokkos::create_mirror_view(particles_.phase);
   auto acceleration = Kokkos::create_mirror_view(particles_.phase_acceleration);
   Kokkos::deep_copy(phase, particles_.phase);
   for (int i = 0; i < particles_.owned; ++i) {
-    if (kind(i) != kFluid) {
+    if (at[i] < 0) {
       colour(i) = 0;
       continue;
     }
-    double at[Dim];
-    for (int d = 0; d < Dim; ++d) at[d] = x(i, d);
-    const auto k = static_cast<std::size_t>(lattice_point_index(at));
+    const auto k = static_cast<std::size_t>(at[i]);
     colour(i) = phi[k];
     phase(i) = phi[k] >= 0.5 ? 1 : 0;
     if (!forces) continue;

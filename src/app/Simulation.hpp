@@ -325,7 +325,9 @@ class Simulation {
   void start_interface();        // at set-up: phi from the phases' placement, the field, the forces
   void make_phase_field();       // the lattice's field from the particles' phi (set-up, restart)
   void interface_stage();        // "interface": phi carried over the step, the phases and forces from it
-  void place_interface_forces(); // each fluid particle's phi, phase and phase acceleration from the field
+  // Each fluid particle's phi, phase and phase acceleration from the field; at: fluid_lattice_points().
+  void place_interface_forces(const std::vector<long long>& at);
+  std::vector<long long> fluid_lattice_points() const;
   // The force per phase a wall's pressure takes from the fluid beside it
   // (Phases/Driven Phase; empty with one force for all the fluid).
   PhaseBodyForce<Dim, MemorySpace> phase_body_force() const;
