@@ -12,11 +12,18 @@ their difference with Jurin's for two gaps of widths w (inside) and W (outside):
 theta through the liquid (phase 1, the driven one): 180 degrees less Phases/Contact Angle.
 The plates are read from the image: the solid columns of its middle row, and their lower end.
 
-With --fields, each frame's inner height is set beside the Lucas-Washburn law of the narrow gap
-with gravity: Poiseuille flow between plates, mean speed w^2 / (12 mu) times the driving pressure
-rho |F| (dh_Jurin - dh) over the column's length from the plates' lower end to the meniscus, the
-outer level falling by w / W of the inner rise; integrated from the first frame. It leaves out the
-liquid's inertia, the flow into the gap from below and the contact line's own resistance.
+With --fields, each frame's heights are set beside the Lucas-Washburn law of the narrow gap with
+gravity and the displaced fluid (Bosanquet's form, with the column's inertia): Poiseuille flow
+between plates, whose pressure loss 12 v (mu_1 (h - b) + mu_0 (t - h)) / w^2 is that of the liquid
+(phase 1) from the plates' lower end b to the meniscus h and of the other phase (phase 0) from
+there to the plates' upper end t, driven by rho |F| (dh_Jurin - dh) and accelerating the gap's
+column, rho (t - b) dv/dt (one density for both phases); the outer level falls by w / W of the
+inner rise. Integrated from the first frame at rest. It leaves out the flow into the gap from
+below and out of it above, and the contact lines' own resistance. Its difference dh over time
+is the one to compare: the run's outer level falls by more than w / W of the inner rise (the
+liquid also climbs the plates' outer faces), which the law does not follow, and each comes to
+its own rest; so each frame also gives the run's time over the time the law takes to reach the
+same fraction of its last difference (1: as fast as the law; above 1: slower).
 
     perf/capillary_rise.py RUN_DIR [--fields] [--json]
 """
@@ -67,8 +74,8 @@ def plates(run, root):
     if len(groups) != 2:
         sys.exit(f"{run}: the image's middle row holds {len(groups)} solid runs, not two plates")
     grid = image.reshape(shape[1], shape[0])
-    bottom = min(j for j in range(shape[1]) if int(grid[j, groups[0][0]]) in solid)
-    return groups, shape[0], bottom
+    rows = [j for j in range(shape[1]) if int(grid[j, groups[0][0]]) in solid]
+    return groups, shape[0], min(rows), max(rows) + 1
 
 
 def meniscus(column):
@@ -102,11 +109,12 @@ def main():
     theta = math.radians(180 - float(parameter(root, "Phases/Contact Angle")))
     rho = float(parameter(root, "Fluid/Density"))
     force = math.hypot(*numbers(parameter(root, "Fluid/Body Force")))
-    ((a0, a1), (b0, b1)), n, bottom = plates(args.run, root)
+    ((a0, a1), (b0, b1)), n, bottom, top = plates(args.run, root)
     w, W = (b0 - a1), n - (b1 - a0)
     inner, outer = (a1 + b0) // 2, ((b1 + a0 + n) // 2) % n
     jurin = 2 * sigma * math.cos(theta) / (rho * force) * (1 / (w * dx) - 1 / (W * dx)) / dx
-    mu = rho * float(parameter(root, "Phases/Phase 1/Kinematic Viscosity"))
+    mu_liquid = rho * float(parameter(root, "Phases/Phase 1/Kinematic Viscosity"))
+    mu_other = rho * float(parameter(root, "Fluid/Kinematic Viscosity"))
     result = {"gap": w, "outer_gap": W, "jurin_difference": jurin, "rows": []}
     if args.fields:
         import h5py
@@ -118,16 +126,31 @@ def main():
             fluid = kind == 0
             hi, ho = heights(pos[fluid, 0], pos[fluid, 1], phi[fluid], dx, inner, outer)
             result["rows"].append({"time": time, "inner": hi, "outer": ho})
-        # Lucas-Washburn with gravity, in spacings and seconds, from the first frame.
+        # Lucas-Washburn-Bosanquet with gravity, from the first frame at rest; heights in spacings,
+        # the balance in SI units (v in m/s).
         first = result["rows"][0]
-        h, t, speed = first["inner"], first["time"], (w * dx) ** 2 * rho * force / (12 * mu) / dx
+        h, t, v = first["inner"], first["time"], 0.0
         for row in result["rows"]:
             while t < row["time"] - 1e-12:
-                step = min(1e-5, row["time"] - t)
+                step = min(1e-6, row["time"] - t)
                 outer = first["outer"] - (w / W) * (h - first["inner"])
-                h += step * speed * (jurin - (h - outer)) / (h - bottom)
+                drive = rho * force * (jurin - (h - outer)) * dx
+                loss = 12 * v * (mu_liquid * (h - bottom) + mu_other * (top - h)) * dx / (w * dx) ** 2
+                v += step * (drive - loss) / (rho * (top - bottom) * dx)
+                h += step * v / dx
                 t += step
             row["washburn_inner"] = h
+            row["washburn_difference"] = h - (first["outer"] - (w / W) * (h - first["inner"]))
+        # How much slower the run is than the law: the time the law takes to reach the fraction of
+        # its last difference that the run's difference is of the run's last, against the run's time.
+        rows = result["rows"]
+        run_rest = rows[-1]["inner"] - rows[-1]["outer"]
+        law_times = [r["time"] for r in rows]
+        law_fractions = [r["washburn_difference"] / rows[-1]["washburn_difference"] for r in rows]
+        for row in rows[1:]:
+            fraction = (row["inner"] - row["outer"]) / run_rest
+            if fraction < max(law_fractions) and all(b > a for a, b in zip(law_fractions, law_fractions[1:])):
+                row["time_over_law"] = row["time"] / float(np.interp(fraction, law_fractions, law_times))
     else:
         x, y, phi = [], [], []
         with open(os.path.join(args.run, "particles.csv")) as f:
@@ -143,7 +166,10 @@ def main():
     for r in result["rows"]:
         when = "end" if r["time"] is None else f"t = {r['time']:.4g} s"
         d = r["inner"] - r["outer"]
-        washburn = f", Lucas-Washburn's inner {r['washburn_inner']:.2f}" if "washburn_inner" in r else ""
+        washburn = (f"; Lucas-Washburn's inner {r['washburn_inner']:.2f}, difference {r['washburn_difference']:.2f}"
+                    if "washburn_inner" in r else "")
+        if "time_over_law" in r:
+            washburn += f", time over the law's to the same fraction of rest {r['time_over_law']:.2f}"
         print(f"{when}: inner {r['inner']:.2f}, outer {r['outer']:.2f}, difference {d:.2f} "
               f"({100 * (d / jurin - 1):+.1f} % of Jurin's){washburn}")
 
