@@ -21,6 +21,7 @@
 #include "ErrorOf.hpp"
 #include "MinimalScene.hpp"
 #include "RunInput.hpp"
+#include "app/SceneCheck.hpp"
 #include "diagnostics/LayeredChannel.hpp"
 #include "io/Parameters.hpp"
 #include "scene/SceneBuilder.hpp"
@@ -210,6 +211,32 @@ TEST(TwoPhase, ADropContinuedFromItsCheckpointIsTheMarchInOneGo) {
   const std::string particles = file_text("drop-whole", "particles.csv");
   EXPECT_GT(particles.size(), 1000u);
   EXPECT_EQ(particles, file_text("drop-parts", "particles.csv"));
+}
+
+// A moving interface's phase field is whole on every process: the memory
+// estimate counts it on each, (33 + 56 D) bytes a lattice point, whatever
+// the number of processes.
+TEST(TwoPhase, MovingInterfaceCountsItsFieldOnEveryProcess) {
+  auto list = testing::minimal_scene();
+  auto& phases = list.sublist("Phases");
+  phases.set("Count", 2);
+  auto& second = phases.sublist("Phase 1");
+  second.set("Kinematic Viscosity", 1e-3);
+  second.set("Region Low", array<double>({0.0, 0.5}));
+  second.set("Region High", array<double>({1.0, 1.0}));
+  validate_parameters(list);
+  SceneConfig fixed = scene_from_parameters(list, "");
+  phases.set("Interface", std::string("moving"));
+  validate_parameters(list);
+  SceneConfig moving = scene_from_parameters(list, "");
+  ASSERT_TRUE(moving.moving_interface);
+  MemoryBudget budget;
+  budget.available_bytes = 1e12;
+  for (int ranks : {1, 4}) {
+    const RunEstimate a = check_scene(fixed, ranks, budget), b = check_scene(moving, ranks, budget);
+    ASSERT_GT(a.lattice_points, 0);
+    EXPECT_NEAR(b.bytes_per_process - a.bytes_per_process, (33.0 + 56.0 * 2) * a.lattice_points, 1e-6) << ranks;
+  }
 }
 
 // What the phases do not take is refused before any work, naming the parameter.

@@ -241,12 +241,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     for (size_t p = 0; p < scene.phases.size(); ++p)
       fluid_.phase_kinematic_viscosity[p] = scene.phases[p].kinematic_viscosity;
     if (scene.surface_tension > 0 || scene.driven_phase >= 0) particles_.keep_phase_acceleration();
-    if (scene.moving_interface) {
-      if (comm_.size() > 1)
-        throw std::invalid_argument("Phases/Interface = moving runs on one process for now (its phase field is "
-                                    "on the whole lattice): run without mpirun, or with -np 1");
-      particles_.keep_colour();
-    }
+    if (scene.moving_interface) particles_.keep_colour();
   }
   if (start == Start::Empty) return;
 
@@ -522,11 +517,15 @@ void Simulation<Dim, ExecSpace>::make_phase_field() {
   std::size_t points = 1;
   for (int d = 0; d < Dim; ++d) points *= static_cast<std::size_t>(cells[d]);
   const auto colour = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.colour);
+  std::vector<double> owned_phi(static_cast<std::size_t>(particles_.owned));
+  for (int i = 0; i < particles_.owned; ++i) owned_phi[i] = colour(i);
+  const LatticeValues all = gather_on_lattice(fluid_lattice_points(), owned_phi, 1);
   std::vector<char> fluid(points, 0);
   std::vector<double> phi(points, 0.0);
-  const std::vector<long long> at = fluid_lattice_points();
-  for (int i = 0; i < particles_.owned; ++i)
-    if (at[i] >= 0) fluid[static_cast<std::size_t>(at[i])] = 1, phi[static_cast<std::size_t>(at[i])] = colour(i);
+  for (std::size_t j = 0; j < all.points.size(); ++j) {
+    const auto k = static_cast<std::size_t>(all.points[j]);
+    fluid[k] = 1, phi[k] = all.values[j];
+  }
   phase_field_ = std::make_unique<LatticePhaseField<Dim>>(cells, periodic, dx, settings, std::move(fluid));
   phase_field_->values() = std::move(phi);
 }
@@ -537,11 +536,14 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::interface_stage() {
   const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.v);
   const std::vector<long long> at = fluid_lattice_points();
+  std::vector<double> owned_velocity(static_cast<std::size_t>(particles_.owned) * Dim);
+  for (int i = 0; i < particles_.owned; ++i)
+    for (int d = 0; d < Dim; ++d) owned_velocity[static_cast<std::size_t>(i) * Dim + d] = v(i, d);
+  const LatticeValues all = gather_on_lattice(at, owned_velocity, Dim);
   std::vector<Vec<Dim>> velocity(phase_field_->size(), Vec<Dim>::zero());
-  for (int i = 0; i < particles_.owned; ++i) {
-    if (at[i] < 0) continue;
-    Vec<Dim>& u = velocity[static_cast<std::size_t>(at[i])];
-    for (int d = 0; d < Dim; ++d) u[d] = v(i, d);
+  for (std::size_t j = 0; j < all.points.size(); ++j) {
+    Vec<Dim>& u = velocity[static_cast<std::size_t>(all.points[j])];
+    for (int d = 0; d < Dim; ++d) u[d] = all.values[j * Dim + d];
   }
   phase_field_->advance(derived_.time_step, velocity);
   place_interface_forces(at);
@@ -561,6 +563,33 @@ std::vector<long long> Simulation<Dim, ExecSpace>::fluid_lattice_points() const 
     points[i] = lattice_point_index(at);
   }
   return points;
+}
+
+// The phase field is whole on every process, and each advances it alike
+// from the same values: every process's fluid particles, gathered
+// (MPI_Allgatherv; on one process, its own). Its cost does not fall with
+// the processes: it is for scenes whose lattice one process can hold.
+template <int Dim, class ExecSpace>
+typename Simulation<Dim, ExecSpace>::LatticeValues Simulation<Dim, ExecSpace>::gather_on_lattice(
+    const std::vector<long long>& at, const std::vector<double>& values, int components) const {
+  LatticeValues mine;
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    if (at[i] < 0) continue;
+    mine.points.push_back(at[i]);
+    mine.values.insert(mine.values.end(), values.begin() + static_cast<std::ptrdiff_t>(i * components),
+                       values.begin() + static_cast<std::ptrdiff_t>((i + 1) * components));
+  }
+  if (comm_.size() == 1) return mine;
+  const std::vector<int> counts = comm_.all_gather_counts(static_cast<int>(mine.points.size()));
+  std::vector<int> value_counts(counts);
+  long long total = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r) total += counts[r], value_counts[r] *= components;
+  LatticeValues all;
+  all.points.resize(static_cast<std::size_t>(total));
+  all.values.resize(static_cast<std::size_t>(total) * static_cast<std::size_t>(components));
+  comm_.all_gather(mine.points.data(), counts, all.points.data());
+  comm_.all_gather(mine.values.data(), value_counts, all.values.data());
+  return all;
 }
 
 // Each fluid particle's phi from the field, its phase (1 where phi >= 1/2)

@@ -328,6 +328,14 @@ class Simulation {
   // Each fluid particle's phi, phase and phase acceleration from the field; at: fluid_lattice_points().
   void place_interface_forces(const std::vector<long long>& at);
   std::vector<long long> fluid_lattice_points() const;
+  // The owned fluid particles' values (`components` each, particle-major) with
+  // their lattice points, gathered from every process: the field is whole on each.
+  struct LatticeValues {
+    std::vector<long long> points;
+    std::vector<double> values;
+  };
+  LatticeValues gather_on_lattice(const std::vector<long long>& at, const std::vector<double>& values,
+                                  int components) const;
   // The force per phase a wall's pressure takes from the fluid beside it
   // (Phases/Driven Phase; empty with one force for all the fluid).
   PhaseBodyForce<Dim, MemorySpace> phase_body_force() const;

@@ -138,7 +138,7 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
     m.has_relative_permeability = k > 0 && force > 0;
     if (m.has_relative_permeability)
       m.relative_permeability = m.superficial_velocity * scene.phases[p].kinematic_viscosity / force / k;
-    if (const auto* field = sim.phase_field()) {  // on one process: the whole lattice
+    if (const auto* field = sim.phase_field()) {  // whole, and the same, on every process
       double dV = 1.0;
       for (int d = 0; d < scene.dimension; ++d) dV *= scene.particle_spacing;
       const double one = field->amount() * dV;

@@ -189,8 +189,8 @@ RCP<ParameterList> make_valid_parameters() {
           "put. 'moving': the phases are a phase field phi (1 in phase 1, 0 in phase 0) on the fixed lattice, "
           "carried by the flow and kept a layer of Interface Width by the conservative Allen-Cahn equation; a "
           "particle is of phase 1 where phi >= 1/2, the surface tension is taken from phi every step, and the "
-          "solids wet by Contact Angle (docs/method.md). Moving needs Solver/Method = explicit, one process and "
-          "Convergence/Levels = 1.",
+          "solids wet by Contact Angle (docs/method.md). Moving needs Solver/Method = explicit and Convergence/Levels "
+          "= 1; the field is whole on every process (its memory and work do not fall with the processes).",
           one_of({"fixed", "moving"}));
     s.set("Interface Width", 1.0,
           "With Interface = moving: the phase field's layer width epsilon in particle spacings (phi = 1 / (1 + "

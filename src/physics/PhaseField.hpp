@@ -37,7 +37,8 @@
 // interface's delta function; at a solid face n's normal component is the
 // wetting condition's, which is what pulls a contact line to its angle.
 //
-// Host vectors, one process: the whole lattice of the cell.
+// Host vectors on the whole lattice of the cell: each process holds all of
+// it and advances it alike (app/Simulation.cpp gathers the velocities).
 #include <algorithm>
 #include <array>
 #include <cmath>
