@@ -15,9 +15,9 @@ import contact_angle  # noqa: E402
 directory, angle, tolerance = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
 points, dx = contact_angle.interface_points(os.path.join(directory, "particles.csv"))
 above = points[points[:, 1] > 3 * dx]
-xc, yc, radius = contact_angle.fit_circle(above)
-drop = math.degrees(math.acos(-yc / radius))
-off = max(abs(math.hypot(x - xc, y - yc) - radius) for x, y in above) / dx
+centre, radius = contact_angle.fit_sphere(above)
+drop = math.degrees(math.acos(-centre[1] / radius))
+off = max(abs(math.dist(p, centre) - radius) for p in above) / dx
 assert abs(drop - angle) < tolerance, f"the drop's angle is {drop:.2f} degrees, set {angle}"
 assert off < 0.1, f"the interface is {off:.3f} spacings off its circle"
 
