@@ -213,10 +213,8 @@ TEST(TwoPhase, ADropContinuedFromItsCheckpointIsTheMarchInOneGo) {
   EXPECT_EQ(particles, file_text("drop-parts", "particles.csv"));
 }
 
-// A moving interface's phase field is whole on every process: the memory
-// estimate counts it on each, (33 + 56 D) bytes a lattice point, whatever
-// the number of processes.
-TEST(TwoPhase, MovingInterfaceCountsItsFieldOnEveryProcess) {
+// The minimal scene with a second phase in its upper half.
+Teuchos::ParameterList two_phase_scene() {
   auto list = testing::minimal_scene();
   auto& phases = list.sublist("Phases");
   phases.set("Count", 2);
@@ -224,9 +222,27 @@ TEST(TwoPhase, MovingInterfaceCountsItsFieldOnEveryProcess) {
   second.set("Kinematic Viscosity", 1e-3);
   second.set("Region Low", array<double>({0.0, 0.5}));
   second.set("Region High", array<double>({1.0, 1.0}));
+  return list;
+}
+
+// What the phases do not take is refused before any work, naming the parameter.
+std::string refusal(const std::function<void(Teuchos::ParameterList&)>& change) {
+  auto list = two_phase_scene();
+  change(list);
+  return testing::error_of<ParameterError>([&] {
+    validate_parameters(list);
+    scene_from_parameters(list, "");
+  });
+}
+
+// A moving interface's phase field is whole on every process: the memory
+// estimate counts it on each, (33 + 56 D) bytes a lattice point, whatever
+// the number of processes.
+TEST(TwoPhase, MovingInterfaceCountsItsFieldOnEveryProcess) {
+  auto list = two_phase_scene();
   validate_parameters(list);
   SceneConfig fixed = scene_from_parameters(list, "");
-  phases.set("Interface", std::string("moving"));
+  list.sublist("Phases").set("Interface", std::string("moving"));
   validate_parameters(list);
   SceneConfig moving = scene_from_parameters(list, "");
   ASSERT_TRUE(moving.moving_interface);
@@ -237,22 +253,6 @@ TEST(TwoPhase, MovingInterfaceCountsItsFieldOnEveryProcess) {
     ASSERT_GT(a.lattice_points, 0);
     EXPECT_NEAR(b.bytes_per_process - a.bytes_per_process, (33.0 + 56.0 * 2) * a.lattice_points, 1e-6) << ranks;
   }
-}
-
-// What the phases do not take is refused before any work, naming the parameter.
-std::string refusal(const std::function<void(Teuchos::ParameterList&)>& change) {
-  auto list = testing::minimal_scene();
-  auto& phases = list.sublist("Phases");
-  phases.set("Count", 2);
-  auto& second = phases.sublist("Phase 1");
-  second.set("Kinematic Viscosity", 1e-3);
-  second.set("Region Low", array<double>({0.0, 0.5}));
-  second.set("Region High", array<double>({1.0, 1.0}));
-  change(list);
-  return testing::error_of<ParameterError>([&] {
-    validate_parameters(list);
-    scene_from_parameters(list, "");
-  });
 }
 
 TEST(TwoPhase, BadInputIsRefusedByName) {
