@@ -75,7 +75,8 @@ def main():
         print(json.dumps(result))
     else:
         print(f"angle through the drop {drop:.2f} deg (through phase 0 {180 - drop:.2f}), radius {radius:.4g} m, "
-              f"{len(above)} points, rms off the {'circle' if above.shape[1] == 2 else 'sphere'} {result['fit_rms_spacings']:.3f} spacings")
+              f"{len(above)} points, rms off the {'circle' if above.shape[1] == 2 else 'sphere'} "
+              f"{result['fit_rms_spacings']:.3f} spacings")
 
 
 if __name__ == "__main__":

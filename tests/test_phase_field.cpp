@@ -1,9 +1,11 @@
 // The moving interface's phase field on the lattice (physics/PhaseField.hpp):
 // phi summed over the fluid is conserved to round-off by any flow, with
 // walls and grains; a compressing flow leaves the bulk alone; a flat layer
-// at rest keeps its profile; a layer carried by a uniform flow moves with it; a disc's curvature is 1/R; the wetting
-// condition's solid neighbour continues a flat layer that meets the wall at
-// the contact angle; a flat layer meeting a wall at 90 degrees feels no force.
+// at rest keeps its profile; a layer carried by a uniform flow moves with
+// it; a disc's curvature is 1/R; the wetting condition's solid neighbour
+// continues a flat layer that meets the wall at the contact angle, and the
+// layer's normal beside the wall makes that angle; a flat layer meeting a
+// wall at 90 degrees feels no force.
 #include <gtest/gtest.h>
 
 #include <array>
