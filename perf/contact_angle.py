@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""The contact angle of a drop on the wall y = 0 (2D or 3D), from a run's final particles.
+"""The contact angle of a drop on the wall y = 0 (2D or 3D), or of drops side by side on y = floor, from a run's
+final particles.
 
 Reads particles.csv of a run with Phases/Interface = moving (its phi column),
 finds where phi crosses 1/2 between neighbouring lattice points, fits a circle
@@ -8,7 +9,9 @@ wall (a least-squares fit of |x|^2 + a . x + c = 0), and reports the angle it
 makes with the wall: through the drop (phase 1) and through phase 0, as
 Phases/Contact Angle is given.
 
-    perf/contact_angle.py RUN_DIR [--skip 3] [--json]
+With --drops N the crossings are split into N drops at the widest gaps along x, and each is fitted.
+
+    perf/contact_angle.py RUN_DIR [--skip 3] [--floor Y] [--drops N] [--json]
 """
 import argparse
 import csv
@@ -55,28 +58,45 @@ def fit_sphere(points):
     return centre, math.sqrt(float(centre @ centre) - solution[-1])
 
 
+def drops(points, count):
+    """The points split into `count` drops along x, at the count - 1 widest gaps between them."""
+    order = np.argsort(points[:, 0])
+    x = points[order, 0]
+    cuts = sorted(np.argsort(np.diff(x))[len(x) - count:] + 1) if count > 1 else []
+    return [points[part] for part in np.split(order, cuts)]
+
+
+def measure(points, dx, floor, skip):
+    """A drop's angle with the wall y = floor from its interface points above floor + skip spacings."""
+    above = points[points[:, 1] > floor + skip * dx]
+    if len(above) < 5:
+        sys.exit(f"{len(above)} interface points above the wall: no drop to fit")
+    centre, radius = fit_sphere(above)
+    drop = math.degrees(math.acos(max(-1.0, min(1.0, -(centre[1] - floor) / radius))))
+    spread = np.sqrt(np.sum((above - centre) ** 2, axis=1)) - radius
+    return {"drop_angle": drop, "contact_angle_phase_0": 180 - drop, "radius": radius, "centre": centre.tolist(),
+            "points": int(len(above)), "fit_rms_spacings": float(np.sqrt(np.mean(spread ** 2)) / dx)}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run", help="the run's output directory (with particles.csv)")
     parser.add_argument("--skip", type=float, default=3.0,
                         help="crossings closer than this many spacings to the wall are left out of the fit")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--floor", type=float, default=0.0, help="the wall's height y (m), 0: the cell's lower side")
+    parser.add_argument("--drops", type=int, default=1, help="drops on the wall, each measured (2D: side by side)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object (a list with --drops)")
     args = parser.parse_args()
     points, dx = interface_points(args.run + "/particles.csv")
-    above = points[points[:, 1] > args.skip * dx]
-    if len(above) < 5:
-        sys.exit(f"{args.run}: {len(above)} interface points above the wall: no drop to fit")
-    centre, radius = fit_sphere(above)
-    drop = math.degrees(math.acos(max(-1.0, min(1.0, -centre[1] / radius))))
-    spread = np.sqrt(np.sum((above - centre) ** 2, axis=1)) - radius
-    result = {"drop_angle": drop, "contact_angle_phase_0": 180 - drop, "radius": radius, "centre": centre.tolist(),
-              "points": int(len(above)), "fit_rms_spacings": float(np.sqrt(np.mean(spread ** 2)) / dx)}
+    results = [measure(drop, dx, args.floor, args.skip) for drop in drops(points, args.drops)]
     if args.json:
-        print(json.dumps(result))
-    else:
-        print(f"angle through the drop {drop:.2f} deg (through phase 0 {180 - drop:.2f}), radius {radius:.4g} m, "
-              f"{len(above)} points, rms off the {'circle' if above.shape[1] == 2 else 'sphere'} "
-              f"{result['fit_rms_spacings']:.3f} spacings")
+        print(json.dumps(results if args.drops > 1 else results[0]))
+        return
+    for r in results:
+        shape = "circle" if points.shape[1] == 2 else "sphere"
+        print(f"angle through the drop {r['drop_angle']:.2f} deg (through phase 0 {r['contact_angle_phase_0']:.2f}), "
+              f"centre x {r['centre'][0]:.4g} m, radius {r['radius']:.4g} m, {r['points']} points, rms off the "
+              f"{shape} {r['fit_rms_spacings']:.3f} spacings")
 
 
 if __name__ == "__main__":

@@ -4,8 +4,9 @@
 // at rest keeps its profile; a layer carried by a uniform flow moves with
 // it; a disc's curvature is 1/R; the wetting condition's solid neighbour
 // continues a flat layer that meets the wall at the contact angle, and the
-// layer's normal beside the wall makes that angle; a flat layer meeting a
-// wall at 90 degrees feels no force.
+// layer's normal beside the wall makes that angle, each solid's own where
+// solids wet at different angles; a flat layer meeting a wall at 90 degrees
+// feels no force.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -180,6 +181,44 @@ TEST(PhaseField, FlatLayerMeetsTheWallAtItsAngleInTheWallsRow) {
         worst = std::max(worst, std::fabs(angle - theta));
       }
       EXPECT_LT(worst, 1.9) << theta << " " << shift;
+    }
+  }
+}
+
+TEST(PhaseField, EachSolidWetsAtItsOwnAngle) {
+  // Solid rows at j = 0 and j = ny - 1 (faces at y = 1 and y = ny - 1), each
+  // with its own angle, the settings' 90 degrees for neither: a flat layer
+  // meeting a solid at that solid's angle has its normal at that angle in
+  // the row beside it, within the 1.9 degrees of one angle everywhere.
+  const long long nx = 64, ny = 14;
+  for (const auto& [lower, upper] : {std::pair{30.0, 120.0}, std::pair{150.0, 60.0}}) {
+    PhaseFieldSettings settings;
+    settings.width = 1.0, settings.mobility = 0.0, settings.cos_contact_angle = 0.0;
+    std::vector<char> fluid(static_cast<std::size_t>(nx * ny), 1);
+    std::vector<double> solid_cos(fluid.size(), 0.0);
+    for (long long i = 0; i < nx; ++i) {
+      fluid[static_cast<std::size_t>(i)] = fluid[static_cast<std::size_t>((ny - 1) * nx + i)] = 0;
+      solid_cos[static_cast<std::size_t>(i)] = std::cos(lower * kPi / 180);
+      solid_cos[static_cast<std::size_t>((ny - 1) * nx + i)] = std::cos(upper * kPi / 180);
+    }
+    LatticePhaseField<2> f({nx, ny}, {true, true}, 1.0, settings, fluid, solid_cos);
+    // at_lower: the layer meets the lower solid (n . e_y = cos), else the upper (n . -e_y = cos).
+    for (bool at_lower : {true, false}) {
+      const double theta = at_lower ? lower : upper;
+      const double c = std::cos(theta * kPi / 180), s = std::sin(theta * kPi / 180);
+      set_by_position(f, [&](double x, double y, double& phi, Vec<2>&) {
+        phi = phase_field_profile(s * (x - 32.25) + (at_lower ? c * (y - 1) : -c * (y - (ny - 1))), 1.0);
+      });
+      const long long row = at_lower ? 1 : ny - 2;
+      double worst = 0;
+      for (long long i = 0; i < nx; ++i) {
+        const std::size_t k = f.index({i, row});
+        if (f.values()[k] < 0.01 || f.values()[k] > 0.99) continue;
+        const Vec<2> g = f.gradient(k);
+        const double angle = std::acos((at_lower ? g[1] : -g[1]) / std::sqrt(dot(g, g))) * 180 / kPi;
+        worst = std::max(worst, std::fabs(angle - theta));
+      }
+      EXPECT_LT(worst, 1.9) << lower << " " << upper << " " << at_lower;
     }
   }
 }

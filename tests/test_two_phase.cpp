@@ -2,8 +2,9 @@
 // (input/two_phase/layered_poiseuille.xml, solved for its steady state)
 // against the piecewise-parabolic solution (diagnostics/LayeredChannel.hpp)
 // at viscosity ratios 0.1, 1 and 10, its phases' saturations and relative
-// permeabilities against their closed forms; and the refusals of input the
-// phases do not take.
+// permeabilities against their closed forms; each grain's own contact angle
+// on a moving interface's lattice; and the refusals of input the phases do
+// not take.
 #include <gtest/gtest.h>
 
 #include <Teuchos_Array.hpp>
@@ -22,6 +23,7 @@
 #include "MinimalScene.hpp"
 #include "RunInput.hpp"
 #include "app/SceneCheck.hpp"
+#include "app/Simulation.hpp"
 #include "diagnostics/LayeredChannel.hpp"
 #include "io/Parameters.hpp"
 #include "scene/SceneBuilder.hpp"
@@ -253,6 +255,43 @@ TEST(TwoPhase, MovingInterfaceCountsItsFieldOnEveryProcess) {
     ASSERT_GT(a.lattice_points, 0);
     EXPECT_NEAR(b.bytes_per_process - a.bytes_per_process, (33.0 + 56.0 * 2) * a.lattice_points, 1e-6) << ranks;
   }
+}
+
+// Phases/Contact Angles with grains: every solid lattice point that a fluid
+// point faces takes the angle of the grain it lies in.
+TEST(TwoPhase, EachGrainWetsAtItsOwnAngle) {
+  auto list = two_phase_scene();
+  list.sublist("Grains").set("Inline", array<double>({0.25, 0.3, 0.15, 0.7, 0.6, 0.2}));
+  auto& phases = list.sublist("Phases");
+  phases.set("Interface", std::string("moving"));
+  phases.set("Surface Tension", 1e-3);
+  phases.set("Contact Angles", array<double>({30.0, 150.0}));
+  list.sublist("Solver").set("Method", std::string("explicit"));
+  validate_parameters(list);
+  const SceneConfig scene = scene_from_parameters(list, "");
+  Simulation<2, Kokkos::DefaultHostExecutionSpace> sim(scene);
+  const auto& field = *sim.phase_field();
+  const double dx = scene.particle_spacing;
+  int faced[2] = {0, 0};
+  for (std::size_t k = 0; k < field.size(); ++k) {
+    if (field.fluid(k)) continue;
+    const auto i = field.point(k);
+    bool faces_fluid = false;
+    for (int d = 0; d < 2; ++d)
+      for (int step : {-1, 1}) {
+        auto j = i;
+        j[d] = (j[d] + step + 20) % 20;
+        faces_fluid = faces_fluid || field.fluid(field.index(j));
+      }
+    if (!faces_fluid) continue;
+    const double x = (static_cast<double>(i[0]) + 0.5) * dx, y = (static_cast<double>(i[1]) + 0.5) * dx;
+    const int grain = std::hypot(x - 0.25, y - 0.3) < std::hypot(x - 0.7, y - 0.6) ? 0 : 1;
+    EXPECT_NEAR(field.solid_cos(k), std::cos((grain ? 150.0 : 30.0) * 3.14159265358979323846 / 180), 1e-15)
+        << x << " " << y;
+    ++faced[grain];
+  }
+  EXPECT_GT(faced[0], 10);
+  EXPECT_GT(faced[1], 10);
 }
 
 TEST(TwoPhase, BadInputIsRefusedByName) {

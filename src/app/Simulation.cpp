@@ -336,27 +336,11 @@ void Simulation<Dim, ExecSpace>::place_phases() {
 // halo about them.
 template <int Dim, class ExecSpace>
 bool Simulation<Dim, ExecSpace>::image_phase_one(const double* x) const {
-  const ImageConfig& image = scene_.image;
-  const VoxelImage& voxels = *image.voxels;
-  const auto wraps = image_field_periodic(image, scene_.periodic);
   const auto& values = scene_.phases[1].image_values;
-  const auto& solid = image.solid_values;
-  long long centre[3] = {0, 0, 0};
-  // A lattice point on a face between voxels (a spacing of two voxels) is
-  // x / voxel_size = a whole number to round-off: nudged to the voxel above.
-  for (int d = 0; d < Dim; ++d) centre[d] = static_cast<long long>(std::floor(x[d] / image.voxel_size + 1e-9));
-  // -1 solid, 0 phase 0, 1 phase 1, of the voxel `offset` from the centre's.
+  const auto& solid = scene_.image.solid_values;
+  // -1 solid, 0 phase 0, 1 phase 1, of the voxel `offset` from x's.
   auto label = [&](const long long (&offset)[3]) {
-    long long at[3] = {0, 0, 0};
-    for (int d = 0; d < Dim; ++d) {
-      long long i = centre[d] + offset[d] - image.piece_first[d];
-      if (wraps[d])
-        i = ((i % voxels.shape[d]) + voxels.shape[d]) % voxels.shape[d];
-      else
-        i = std::clamp(i, 0LL, voxels.shape[d] - 1);
-      at[d] = i;
-    }
-    const int value = voxels.at(at[0], at[1], at[2]);
+    const int value = image_value(x, offset);
     if (std::find(solid.begin(), solid.end(), value) != solid.end()) return -1;
     return std::find(values.begin(), values.end(), value) != values.end() ? 1 : 0;
   };
@@ -371,6 +355,27 @@ bool Simulation<Dim, ExecSpace>::image_phase_one(const double* x) const {
         if (l >= 0) ++votes[l];
       }
   return votes[1] > votes[0];
+}
+
+// The value of the image's voxel `offset` voxels from the one holding x,
+// from this process's piece (which holds its particles' voxels and a halo).
+template <int Dim, class ExecSpace>
+int Simulation<Dim, ExecSpace>::image_value(const double* x, const long long (&offset)[3]) const {
+  const ImageConfig& image = scene_.image;
+  const VoxelImage& voxels = *image.voxels;
+  const auto wraps = image_field_periodic(image, scene_.periodic);
+  long long at[3] = {0, 0, 0};
+  for (int d = 0; d < Dim; ++d) {
+    // A lattice point on a face between voxels (a spacing of two voxels) is
+    // x / voxel_size = a whole number to round-off: nudged to the voxel above.
+    long long i = static_cast<long long>(std::floor(x[d] / image.voxel_size + 1e-9)) + offset[d] - image.piece_first[d];
+    if (wraps[d])
+      i = ((i % voxels.shape[d]) + voxels.shape[d]) % voxels.shape[d];
+    else
+      i = std::clamp(i, 0LL, voxels.shape[d] - 1);
+    at[d] = i;
+  }
+  return voxels.at(at[0], at[1], at[2]);
 }
 
 // A fluid particle's lattice point as an index of the whole lattice
@@ -526,8 +531,65 @@ void Simulation<Dim, ExecSpace>::make_phase_field() {
     const auto k = static_cast<std::size_t>(all.points[j]);
     fluid[k] = 1, phi[k] = all.values[j];
   }
-  phase_field_ = std::make_unique<LatticePhaseField<Dim>>(cells, periodic, dx, settings, std::move(fluid));
+  phase_field_ = std::make_unique<LatticePhaseField<Dim>>(cells, periodic, dx, settings, std::move(fluid),
+                                                          solid_wetting(points, settings.cos_contact_angle));
   phase_field_->values() = std::move(phi);
+}
+
+// With Phases/Contact Angles, cos(theta) at each solid lattice point: a
+// grain's boundary particle takes its grain's angle, an image's the angle
+// of its voxel's solid value (of the solid values about it, the most
+// common, where the smoothed surface leaves it in a pore voxel). Gathered
+// from every process, as the field is whole on each; a solid point without
+// a particle (deep in a solid, which no fluid point faces) keeps the scene's
+// angle. Empty without per-solid angles.
+template <int Dim, class ExecSpace>
+std::vector<double> Simulation<Dim, ExecSpace>::solid_wetting(std::size_t points, double cos_everywhere) const {
+  const auto& angles = scene_.solid_contact_angles;
+  if (angles.empty()) return {};
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.x);
+  const auto kind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.kind);
+  const auto grain = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), grain_ids());
+  const auto& solid = scene_.image.solid_values;
+  const auto solid_index = [&](int value) {
+    return static_cast<int>(std::find(solid.begin(), solid.end(), value) - solid.begin());
+  };
+  const int solids = static_cast<int>(solid.size());
+  std::vector<long long> at(static_cast<std::size_t>(particles_.owned), -1);
+  std::vector<double> cosine(static_cast<std::size_t>(particles_.owned), cos_everywhere);
+  for (int i = 0; i < particles_.owned; ++i) {
+    double p[Dim];
+    bool inside = true;
+    for (int d = 0; d < Dim; ++d) p[d] = x(i, d), inside = inside && p[d] >= 0 && p[d] < scene_.cell_size[d];
+    if (kind(i) == kFluid || kind(i) == kWallBoundary || !inside) continue;  // plane walls: the scene's angle
+    int which = -1;
+    if (kind(i) == kGrainBoundary) {
+      which = grain(i);
+    } else {
+      which = solid_index(image_value(p, {0, 0, 0}));
+      if (which == solids) {
+        std::vector<int> votes(static_cast<std::size_t>(solids), 0);
+        const int reach[3] = {1, Dim > 1 ? 1 : 0, Dim > 2 ? 1 : 0};
+        for (long long k = -reach[2]; k <= reach[2]; ++k)
+          for (long long j = -reach[1]; j <= reach[1]; ++j)
+            for (long long l = -reach[0]; l <= reach[0]; ++l) {
+              const int s = solid_index(image_value(p, {l, j, k}));
+              if (s < solids) ++votes[static_cast<std::size_t>(s)];
+            }
+        const auto most = std::max_element(votes.begin(), votes.end());
+        which = *most > 0 ? static_cast<int>(most - votes.begin()) : -1;
+      }
+    }
+    if (which < 0) continue;
+    at[static_cast<std::size_t>(i)] = lattice_point_index(p);
+    const double degrees = angles[static_cast<std::size_t>(which)];
+    cosine[static_cast<std::size_t>(i)] = std::cos(degrees * 3.14159265358979323846 / 180);
+  }
+  const LatticeValues all = gather_on_lattice(at, cosine, 1);
+  std::vector<double> solid_cos(points, cos_everywhere);
+  for (std::size_t j = 0; j < all.points.size(); ++j)
+    solid_cos[static_cast<std::size_t>(all.points[j])] = all.values[j];
+  return solid_cos;
 }
 
 // After the step: phi carried by the fluid's velocity over it, and the

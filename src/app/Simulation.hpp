@@ -318,18 +318,21 @@ class Simulation {
   void drain_phase_one();        // at set-up: phase 1's points by drainage, on the whole lattice
   long long lattice_point_index(const double* x) const;
   bool image_phase_one(const double* x) const;  // phase 1 by the image's labels
+  int image_value(const double* x, const long long (&offset)[3]) const;  // of the voxel offset from x's
   void place_surface_tension();  // at set-up: each fluid particle's surface-tension acceleration
   void place_phase_body_force();  // at set-up: the body force on one phase into its particles' acceleration
   void add_phase_acceleration();  // in the finish: the phase acceleration into dv/dt
   // A moving interface (Phases/Interface = moving, physics/PhaseField.hpp):
   void start_interface();        // at set-up: phi from the phases' placement, the field, the forces
   void make_phase_field();       // the lattice's field from the particles' phi (set-up, restart)
+  // cos(theta) per lattice point of the solids' own angles (Phases/Contact Angles), or empty.
+  std::vector<double> solid_wetting(std::size_t points, double cos_everywhere) const;
   void interface_stage();        // "interface": phi carried over the step, the phases and forces from it
   // Each fluid particle's phi, phase and phase acceleration from the field; at: fluid_lattice_points().
   void place_interface_forces(const std::vector<long long>& at);
   std::vector<long long> fluid_lattice_points() const;
-  // The owned fluid particles' values (`components` each, particle-major) with
-  // their lattice points, gathered from every process: the field is whole on each.
+  // The owned particles' values (`components` each, particle-major) at their
+  // lattice points (at[i] < 0: none), gathered from every process: the field is whole on each.
   struct LatticeValues {
     std::vector<long long> points;
     std::vector<double> values;

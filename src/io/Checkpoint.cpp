@@ -133,6 +133,9 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
       entries.emplace_back("Phases/Interface Width", number(scene.interface_width));
       entries.emplace_back("Phases/Interface Mobility", number(scene.interface_mobility));
       entries.emplace_back("Phases/Contact Angle", number(scene.contact_angle));
+      const auto& angles = scene.solid_contact_angles;
+      if (!angles.empty())
+        entries.emplace_back("Phases/Contact Angles", list(angles.data(), static_cast<int>(angles.size())));
     }
   }
   // The image by its shape, voxel size, solid values and a checksum of its

@@ -206,6 +206,12 @@ RCP<ParameterList> make_valid_parameters() {
           "from 0 to 180, measured through phase 0 (as Phase 1/Drainage/Contact Angle): below 90 phase 0 wets "
           "the solid.",
           real_in(0.0, 180.0));
+    s.set("Contact Angles", Array<double>(),
+          "With Interface = moving: a static contact angle per solid instead of Contact Angle's one, in degrees "
+          "from 0 to 180 through phase 0: with an image, one per Image/Solid Values entry, in its order (a mixed-wet "
+          "image: each solid value wets at its own angle); with grains, one per grain, in the grains' order. Plane "
+          "walls (Walls/Type) keep Contact Angle. Empty: Contact Angle on every solid.",
+          reals_in(0.0, 180.0));
     auto& p = s.sublist("Phase 1", false,
                         "The second fluid and the region it fills (with Count = 2): a box (Region Low, Region "
                         "High), a disc/sphere (Region Centre, Region Radius) or the Drainage sublist's rule: "

@@ -23,6 +23,10 @@
 // Wetting: the contact angle theta, measured through phase 0 (as
 // Phases/Phase 1/Drainage/Contact Angle), fixes the interface's normal at a
 // solid face: n . n_w = cos(theta), n_w the face's normal into the fluid.
+// Each solid may wet at its own angle (Phases/Contact Angles): the field
+// then holds cos(theta) per solid lattice point, and a face into the solid
+// takes its solid point's; beyond a wall (a lattice end that does not wrap)
+// the settings' angle holds.
 // A solid neighbour of a fluid point a is seen by a's differences with the
 // value of the layer that meets the wall at that angle: the layer's
 // distance s = epsilon ln(phi / (1 - phi)) grows by n . (x_solid - x_a) =
@@ -63,9 +67,12 @@ inline double phase_field_profile(double s, double width) { return 1.0 / (1.0 + 
 // The value a solid neighbour of a fluid point holding phi takes in its
 // differences: the flat layer through the point, met by the wall at theta,
 // one spacing on into the wall.
-inline double wetting_neighbour_value(double phi, double dx, const PhaseFieldSettings& s) {
+inline double wetting_neighbour_value(double phi, double dx, double width, double cos_contact_angle) {
   const double p = std::clamp(phi, 0.0, 1.0);
-  return p / (p + (1 - p) * std::exp(dx * s.cos_contact_angle / s.width));
+  return p / (p + (1 - p) * std::exp(dx * cos_contact_angle / width));
+}
+inline double wetting_neighbour_value(double phi, double dx, const PhaseFieldSettings& s) {
+  return wetting_neighbour_value(phi, dx, s.width, s.cos_contact_angle);
 }
 
 template <int Dim>
@@ -74,14 +81,18 @@ class LatticePhaseField {
   using Index = std::array<long long, Dim>;
 
   // cells: lattice points per axis; periodic: whether an axis wraps (else
-  // beyond its ends is solid); fluid: per point (x fastest), 1 for fluid.
+  // beyond its ends is solid); fluid: per point (x fastest), 1 for fluid;
+  // solid_cos: per point, cos(theta) of a solid point's own angle (fluid
+  // points' entries unread), or empty: settings.cos_contact_angle on every solid.
   LatticePhaseField(const Index& cells, const std::array<bool, Dim>& periodic, double dx,
-                    const PhaseFieldSettings& settings, std::vector<char> fluid)
-      : cells_(cells), dx_(dx), settings_(settings), fluid_(std::move(fluid)) {
+                    const PhaseFieldSettings& settings, std::vector<char> fluid, std::vector<double> solid_cos = {})
+      : cells_(cells), dx_(dx), settings_(settings), fluid_(std::move(fluid)), solid_cos_(std::move(solid_cos)) {
     if (!(dx > 0) || !(settings.width > 0) || !(settings.mobility >= 0))
       throw std::invalid_argument("LatticePhaseField: the spacing and the width must be positive, the mobility >= 0");
     const std::size_t n = size();
     if (fluid_.size() != n) throw std::invalid_argument("LatticePhaseField: one fluid flag per lattice point");
+    if (!solid_cos_.empty() && solid_cos_.size() != n)
+      throw std::invalid_argument("LatticePhaseField: one cos(theta) per lattice point, or none");
     phi_.assign(n, 0.0);
     neighbours_.assign(n * 2 * Dim, -1);
     for (std::size_t k = 0; k < n; ++k) {
@@ -97,7 +108,8 @@ class LatticePhaseField {
             j[d] = (j[d] + cells_[d]) % cells_[d];
           }
           const std::size_t m = index(j);
-          if (fluid_[m]) neighbours_[slot(k, d, side)] = static_cast<long long>(m);
+          const auto at = static_cast<long long>(m);
+          neighbours_[slot(k, d, side)] = fluid_[m] ? at : kSolidPoint - at;
         }
     }
   }
@@ -118,6 +130,8 @@ class LatticePhaseField {
     return i;
   }
   bool fluid(std::size_t k) const { return fluid_[k] != 0; }
+  // cos(theta) of solid point k's wetting (the settings' without per-solid angles).
+  double solid_cos(std::size_t k) const { return solid_cos_.empty() ? settings_.cos_contact_angle : solid_cos_[k]; }
   const PhaseFieldSettings& settings() const { return settings_; }
 
   // phi at each lattice point (only the fluid points' mean anything).
@@ -189,7 +203,7 @@ class LatticePhaseField {
           // At a solid face the wetting condition's n . n_w = cos(theta),
           // n_w = -e_d on the upper side and +e_d on the lower.
           const double face = b >= 0 ? face_normal(n[a], n[static_cast<std::size_t>(b)], d)
-                                     : (side ? -1.0 : 1.0) * settings_.cos_contact_angle;
+                                     : (side ? -1.0 : 1.0) * wetting_cos(b);
           divergence += side ? face : -face;
         }
       const double kappa = -divergence / dx_;
@@ -199,7 +213,7 @@ class LatticePhaseField {
   }
 
   // grad phi at fluid point a by central differences, a solid neighbour
-  // taking the wetting value. Beside a flat stretch of solid (a solid
+  // taking the wetting value of its angle. Beside a flat stretch of solid (a solid
   // neighbour across one axis only) the component along the wall's normal
   // n_w is the smaller of that difference and the geometric condition's
   // cot(theta) |grad_t phi| (Ding & Spelt 2007; the tangential part from
@@ -211,20 +225,23 @@ class LatticePhaseField {
   // settles both.
   Vec<Dim> gradient(std::size_t a) const {
     Vec<Dim> g = Vec<Dim>::zero();
-    const double wall = wetting_neighbour_value(phi_[a], dx_, settings_);
+    // The value a neighbour across face b has, or a solid one takes.
+    const auto value = [&](long long b) {
+      return b >= 0 ? phi_[static_cast<std::size_t>(b)]
+                    : wetting_neighbour_value(phi_[a], dx_, settings_.width, wetting_cos(b));
+    };
     int wall_axis = -1, walls = 0;
+    long long wall_face = -1;
     for (int d = 0; d < Dim; ++d) {
       const long long up = neighbours_[slot(a, d, 1)], down = neighbours_[slot(a, d, 0)];
-      if ((up < 0) != (down < 0)) wall_axis = d, ++walls;
-      const double above = up >= 0 ? phi_[static_cast<std::size_t>(up)] : wall;
-      const double below = down >= 0 ? phi_[static_cast<std::size_t>(down)] : wall;
-      g[d] = (above - below) / (2 * dx_);
+      if ((up < 0) != (down < 0)) wall_axis = d, ++walls, wall_face = up < 0 ? up : down;
+      g[d] = (value(up) - value(down)) / (2 * dx_);
     }
     if (walls == 1) {
       double tangential = 0;
       for (int e = 0; e < Dim; ++e)
         if (e != wall_axis) tangential += g[e] * g[e];
-      const double c = settings_.cos_contact_angle, s = std::sqrt(std::max(1e-12, 1 - c * c));
+      const double c = wetting_cos(wall_face), s = std::sqrt(std::max(1e-12, 1 - c * c));
       // d phi / d n_w = cot(theta) |grad_t phi|; n_w = +e_d with the solid below, -e_d above.
       const double along_normal = c / s * std::sqrt(tangential);
       const double geometric = neighbours_[slot(a, wall_axis, 0)] < 0 ? along_normal : -along_normal;
@@ -234,6 +251,15 @@ class LatticePhaseField {
   }
 
  private:
+  // neighbours_ of a face into a solid lattice point m: kSolidPoint - m; beyond a wall: -1.
+  static constexpr long long kSolidPoint = -2;
+
+  // cos(theta) of the solid across a face whose neighbours_ entry is b < 0.
+  double wetting_cos(long long b) const {
+    if (solid_cos_.empty() || b == -1) return settings_.cos_contact_angle;
+    return solid_cos_[static_cast<std::size_t>(kSolidPoint - b)];
+  }
+
   std::size_t slot(std::size_t k, int d, int side) const {
     return k * 2 * Dim + static_cast<std::size_t>(2 * d + side);
   }
@@ -275,7 +301,9 @@ class LatticePhaseField {
   PhaseFieldSettings settings_;
   std::vector<char> fluid_;
   std::vector<std::size_t> fluid_points_;
-  std::vector<long long> neighbours_;  // per fluid point and face: the fluid neighbour's index, -1 for solid
+  std::vector<double> solid_cos_;  // per lattice point (solid points read), or empty
+  // Per fluid point and face: the fluid neighbour's index; a solid one's as kSolidPoint - index; -1 beyond a wall.
+  std::vector<long long> neighbours_;
   std::vector<double> phi_;
 };
 

@@ -314,11 +314,13 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const bool moving = phases.get<std::string>("Interface") == "moving";
   const double width = phases.get<double>("Interface Width"), mobility = phases.get<double>("Interface Mobility");
   const double wetting_angle = phases.get<double>("Contact Angle");
+  const auto solid_angles = phases.get<Array<double>>("Contact Angles");
   // What only a moving interface reads, named when it would be ignored.
   std::string moving_only;
   if (width != 1.0) moving_only = "Interface Width";
   if (mobility != 0) moving_only = "Interface Mobility";
   if (wetting_angle != 90.0) moving_only = "Contact Angle";
+  if (!solid_angles.empty()) moving_only = "Contact Angles";
   if (count == 1) {
     if (moving) fail("Phases/Interface = moving moves the interface between two phases, and Phases/Count = 1");
     if (nu != 0 || density != 0 || !low.empty() || !high.empty() || !centre.empty() || radius != 0 ||
@@ -492,6 +494,17 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   if (!moving && !moving_only.empty())
     fail("Phases/" + moving_only + " is read with Phases/Interface = moving only (the phase field); with Interface "
          "= fixed the phases stay where they were put and nothing wets: set Interface = moving, or leave it out");
+  if (moving && !solid_angles.empty()) {
+    // One angle per solid the scene names: its image's solid values, or its grains.
+    const bool image = scene.image.voxels != nullptr;
+    const std::size_t solids = image ? scene.image.solid_values.size() : scene.grains.size();
+    if (!image && scene.grains.empty())
+      fail("Phases/Contact Angles gives an angle per solid value of an image or per grain, and the scene has neither "
+           "(plane walls take Phases/Contact Angle)");
+    if (static_cast<std::size_t>(solid_angles.size()) != solids)
+      fail("Phases/Contact Angles has " + std::to_string(solid_angles.size()) + " angles for " +
+           std::to_string(solids) + (image ? " Image/Solid Values" : " grains") + ": give one for each, in order");
+  }
   if (moving) {
     if (scene.steady_solver)
       fail("Phases/Interface = moving follows the interface in time; Solver/Method = steady solves for a flow whose "
@@ -534,6 +547,7 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   scene.interface_width = width;
   scene.interface_mobility = mobility;
   scene.contact_angle = wetting_angle;
+  scene.solid_contact_angles.assign(solid_angles.begin(), solid_angles.end());
   scene.colour = phases.get<std::string>("Colour") == "phase" ? ColourFunction::Phase : ColourFunction::VolumeFraction;
 }
 

@@ -193,6 +193,9 @@ struct SceneConfig {
   double interface_width = 1.0;     // Phases/Interface Width, in particle spacings
   double interface_mobility = 0.0;  // Phases/Interface Mobility (m/s); 0: the rule of Simulation
   double contact_angle = 90.0;      // Phases/Contact Angle (degrees, through phase 0) on every solid
+  // Phases/Contact Angles: per Image/Solid Values entry (an image) or per
+  // grain (grains), in degrees through phase 0; empty: contact_angle on all.
+  std::vector<double> solid_contact_angles;
   bool has_phases() const { return !phases.empty(); }
   // The body force's share on a phase: 1 where it acts, 0 where it does not.
   double phase_force_share(int phase) const { return driven_phase < 0 || driven_phase == phase ? 1.0 : 0.0; }
