@@ -155,7 +155,7 @@ def measure(run):
         with h5py.File(name, "r") as f:
             if "colour" not in f:
                 sys.exit(f"throat_entry: {name} has no colour field (Output/Fields must name 'colour')")
-            time = float(f.attrs["time"]) if "time" in f.attrs else None
+            time = float(f.attrs["time"][0]) if "time" in f.attrs else None
         m = scene.frame(name)
         if m is not None:
             m["file"] = os.path.basename(name)
@@ -185,6 +185,7 @@ def measure(run):
         "front_pressure": front_pressure,
         "front_over_entry": front_pressure / scene.entry_pressure,
         "front": [f["front"] for f in frames],
+        "times": [f["time"] for f in frames],
         "verdict": verdict,
     }
 

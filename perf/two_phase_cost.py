@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """What a second fluid costs a march: one scene with one fluid and with two
 (phase 1 placed by drainage, its own viscosity), interleaved on one core,
-a fixed number of steps each.
+a fixed number of steps each. With --interface moving the two fluids'
+interface moves (Phases/Interface = moving: the phase field, with surface
+tension and wetting at 60 degrees).
 
-    perf/two_phase_cost.py [--scene input/problem3/problem3.xml] \\
+    perf/two_phase_cost.py [--scene input/problem3/problem3.xml] [--interface fixed|moving] \\
         [--set "Discretization/Particle Spacing=0.0005"] [--steps 2000] [--repeats 3] [--out DIR]
 
 Runs one fluid, two fluids, one fluid, ... (--repeats each; taskset -c
@@ -19,6 +21,7 @@ import subprocess
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TWO_FLUIDS = ["Phases/Count=2", "Phases/Phase 1/Kinematic Viscosity=2e-6", "Phases/Phase 1/Drainage/Saturation=0.75"]
+MOVING = ["Phases/Interface=moving", "Phases/Surface Tension=1e-6", "Phases/Contact Angle=60"]
 
 
 def run(build, scene, sets, directory, core):
@@ -40,11 +43,13 @@ def main():
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--core", type=int, default=1)
     parser.add_argument("--out", default="/tmp/two-phase-cost")
+    parser.add_argument("--interface", choices=("fixed", "moving"), default="fixed")
     args = parser.parse_args()
+    two_fluids = TWO_FLUIDS + (MOVING if args.interface == "moving" else [])
     common = args.set + [f"Run/Max Steps={args.steps}", "Permeability/Steady Tolerance=0"]
     seconds = {"one": [], "two": []}
     for r in range(args.repeats):
-        for case, extra in (("one", []), ("two", TWO_FLUIDS)):
+        for case, extra in (("one", []), ("two", two_fluids)):
             s = run(args.build, args.scene, common + extra, os.path.join(args.out, f"{case}-{r}"), args.core)
             seconds[case].append(1.0 / s["particle_steps_per_second"])
     ratios = [t / o for o, t in zip(seconds["one"], seconds["two"])]

@@ -31,7 +31,7 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
     force_norm += scene.body_force[d] * scene.body_force[d];
     largest_side = std::max(largest_side, scene.cell_size[d]);
   }
-  force_norm = std::sqrt(force_norm);
+  force_norm = std::sqrt(force_norm) * scene.largest_force_factor();  // the largest of a stepped force
   if (scene.moving_grains()) {
     // A settling grain's weight is held by pressure differences in the
     // fluid, as a body force's would be: gravity counts as a body force of
@@ -195,7 +195,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
   double box_lo[Dim], box_hi[Dim];
   for (int d = 0; d < Dim; ++d) {
     box_lo[d] = box.lo[d], box_hi[d] = box.hi[d];
-    body_force_[d] = scene.body_force[d];
+    body_force_[d] = scene.force_factor(0.0) * scene.body_force[d];
   }
   // The bound sqrt(3)/4 dx on d_a (Morris et al. 1997) keeps a moving
   // particle that nears a wall from a huge, noisy pull. Fixed particles have
@@ -266,7 +266,7 @@ Simulation<Dim, ExecSpace>::Simulation(const SceneConfig& scene, const ExecSpace
     start_interface();  // the surface tension and the driven phase's force too
   } else {
     if (scene.surface_tension > 0) place_surface_tension();
-    if (scene.driven_phase >= 0) place_phase_body_force();
+    if (scene.driven_phase >= 0) place_phase_body_force(body_force_);
   }
   if (scene.moving_grains()) start_moving_grains();
   compute_rates();
@@ -691,10 +691,11 @@ void Simulation<Dim, ExecSpace>::place_interface_forces(const std::vector<long l
 // any surface tension's), and the finish adds no force of its own
 // (finish_body_force).
 template <int Dim, class ExecSpace>
-void Simulation<Dim, ExecSpace>::place_phase_body_force() {
+void Simulation<Dim, ExecSpace>::place_phase_body_force(const Vec<Dim>& body_force) {
   const auto acceleration = particles_.phase_acceleration;
   const auto kind = particles_.kind, phase = particles_.phase;
-  const PhaseBodyForce<Dim, MemorySpace> force = phase_body_force();
+  PhaseBodyForce<Dim, MemorySpace> force = phase_body_force();
+  for (int p = 0; p < 2; ++p) force.force[p] = scene_.phase_force_share(p) * body_force;
   static const std::string label = "poresph::place_phase_body_force";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned), KOKKOS_LAMBDA(int a) {
@@ -702,6 +703,24 @@ void Simulation<Dim, ExecSpace>::place_phase_body_force() {
         for (int d = 0; d < Dim; ++d) acceleration(a, d) += force.of(a)[d];
       });
   space_.fence();
+}
+
+// Phases/Force Steps: the body force of the span the step starts in. With
+// one phase driven, its particles carry the force in their phase
+// acceleration (which the interface stage of the step before set): they
+// take the change there too.
+template <int Dim, class ExecSpace>
+void Simulation<Dim, ExecSpace>::force_step_stage() {
+  const double factor = scene_.force_factor(time_);
+  Vec<Dim> change = Vec<Dim>::zero();
+  bool changed = false;
+  for (int d = 0; d < Dim; ++d) {
+    change[d] = factor * scene_.body_force[d] - body_force_[d];
+    changed = changed || change[d] != 0;
+  }
+  if (!changed) return;
+  for (int d = 0; d < Dim; ++d) body_force_[d] = factor * scene_.body_force[d];
+  if (scene_.driven_phase >= 0) place_phase_body_force(change);
 }
 
 template <int Dim, class ExecSpace>
@@ -1065,7 +1084,9 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::make_step_stages() {
   using S = Simulation;
   const bool grains_move = scene_.moving_grains();
-  step_stages_ = {{"poresph::step::predict", &S::predict_stage}};
+  step_stages_ = {};
+  if (!scene_.force_steps.empty()) step_stages_.push_back({"poresph::step::force_step", &S::force_step_stage});
+  step_stages_.push_back({"poresph::step::predict", &S::predict_stage});
   if (grains_move) step_stages_.push_back({"poresph::step::grains_predict", &S::grains_predict_stage});
   step_stages_.push_back({"poresph::step::neighbourhood", &S::neighbourhood_stage});
   if (extrapolate_walls_) step_stages_.push_back({"poresph::step::wall_pressure", &S::wall_pressure_stage});

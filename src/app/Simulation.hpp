@@ -156,6 +156,7 @@ class Simulation {
   const std::vector<StepStage>& step_stages() const { return step_stages_; }
 
   double time() const { return time_; }
+  const Vec<Dim>& body_force() const { return body_force_; }  // on the fluid now (Phases/Force Steps)
   long long steps() const { return steps_; }
   double time_step() const { return derived_.time_step; }
   const DerivedParameters& derived() const { return derived_; }
@@ -320,7 +321,9 @@ class Simulation {
   bool image_phase_one(const double* x) const;  // phase 1 by the image's labels
   int image_value(const double* x, const long long (&offset)[3]) const;  // of the voxel offset from x's
   void place_surface_tension();  // at set-up: each fluid particle's surface-tension acceleration
-  void place_phase_body_force();  // at set-up: the body force on one phase into its particles' acceleration
+  // The body force on one phase (of body_force's size) into its particles' acceleration.
+  void place_phase_body_force(const Vec<Dim>& body_force);
+  void force_step_stage();  // "force_step": the body force of the span of Phases/Force Steps the step starts in
   void add_phase_acceleration();  // in the finish: the phase acceleration into dv/dt
   // A moving interface (Phases/Interface = moving, physics/PhaseField.hpp):
   void start_interface();        // at set-up: phi from the phases' placement, the field, the forces

@@ -136,6 +136,12 @@ std::string physics_fingerprint(const SceneConfig& scene, double time_step, doub
       const auto& angles = scene.solid_contact_angles;
       if (!angles.empty())
         entries.emplace_back("Phases/Contact Angles", list(angles.data(), static_cast<int>(angles.size())));
+      // The steps' spans are End Time's shares: a restart with another End Time would drive otherwise.
+      const auto& steps = scene.force_steps;
+      if (!steps.empty()) {
+        entries.emplace_back("Phases/Force Steps", list(steps.data(), static_cast<int>(steps.size())));
+        entries.emplace_back("Run/End Time", number(scene.end_time));
+      }
     }
   }
   // The image by its shape, voxel size, solid values and a checksum of its

@@ -212,6 +212,15 @@ RCP<ParameterList> make_valid_parameters() {
           "image: each solid value wets at its own angle); with grains, one per grain, in the grains' order. Plane "
           "walls (Walls/Type) keep Contact Angle. Empty: Contact Angle on every solid.",
           reals_in(0.0, 180.0));
+    s.set("Force Steps", Array<double>(),
+          "With Interface = moving: a stepped body force, the drive of a capillary-pressure-controlled drainage "
+          "(or imbibition). Factors f_1, ..., f_n (each >= 0) of Fluid/Body Force: Run/End Time is cut into n "
+          "equal spans, and during the i-th the body force is f_i times Fluid/Body Force (on the phases Driven "
+          "Phase names). phases_history.csv, a row every check (at most 100 steps apart), then carries the force "
+          "in a column 'body_force' (its component along the driven axis): a span's last row is where it ended, at "
+          "rest if the span was long enough (docs/method.md). k and k_r are reported against Fluid/Body Force. "
+          "Empty: the force holds.",
+          reals_in(0.0, kHuge));
     auto& p = s.sublist("Phase 1", false,
                         "The second fluid and the region it fills (with Count = 2): a box (Region Low, Region "
                         "High), a disc/sphere (Region Centre, Region Radius) or the Drainage sublist's rule: "

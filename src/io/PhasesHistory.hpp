@@ -3,7 +3,8 @@
 // one row every check interval and at the end: each phase's superficial
 // velocity along the driven axis and its volume-weighted mean pressure,
 // and the capillary pressure, phase 1's mean pressure less phase 0's (with
-// a moving interface, each phase's volume by the phase field too). The
+// a moving interface, each phase's volume by the phase field too; with
+// Phases/Force Steps, the body force along the axis). The
 // measures are sums over all processes; the first writes. Every write is
 // checked (io/HistoryFile.hpp); a restart in the run's own directory keeps
 // the rows its checkpoint counts and goes on from there.
@@ -31,6 +32,7 @@ class PhasesHistory : public ScheduledHistory<Sim> {
     header += ",capillary_pressure";
     if (scene.moving_interface)
       for (size_t p = 0; p < scene.phases.size(); ++p) header += ",phase_field_volume_" + std::to_string(p);
+    if (!scene.force_steps.empty()) header += ",body_force";
     header += "\n";
     if (sim.communicator().rank() == 0) this->file_.open(path, header, continuing, rows_before);
     if (!continuing) write(sim);
@@ -65,6 +67,7 @@ class PhasesHistory : public ScheduledHistory<Sim> {
     put(measures[1].mean_pressure - measures[0].mean_pressure);
     for (const auto& m : measures)
       if (m.has_phase_field) put(m.phase_field_volume);
+    if (!scene_.force_steps.empty()) put(sim.body_force()[axis_]);
     *out << "\n";
     this->file_.check();
   }

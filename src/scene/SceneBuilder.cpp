@@ -315,12 +315,14 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const double width = phases.get<double>("Interface Width"), mobility = phases.get<double>("Interface Mobility");
   const double wetting_angle = phases.get<double>("Contact Angle");
   const auto solid_angles = phases.get<Array<double>>("Contact Angles");
+  const auto force_steps = phases.get<Array<double>>("Force Steps");
   // What only a moving interface reads, named when it would be ignored.
   std::string moving_only;
   if (width != 1.0) moving_only = "Interface Width";
   if (mobility != 0) moving_only = "Interface Mobility";
   if (wetting_angle != 90.0) moving_only = "Contact Angle";
   if (!solid_angles.empty()) moving_only = "Contact Angles";
+  if (!force_steps.empty()) moving_only = "Force Steps";
   if (count == 1) {
     if (moving) fail("Phases/Interface = moving moves the interface between two phases, and Phases/Count = 1");
     if (nu != 0 || density != 0 || !low.empty() || !high.empty() || !centre.empty() || radius != 0 ||
@@ -332,6 +334,8 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
       fail("Phases/Single Phase Permeability gives the relative permeabilities of two phases, and Phases/Count = 1");
     if (sigma != 0) fail("Phases/Surface Tension acts between two phases, and Phases/Count = 1");
     if (driven != "both") fail("Phases/Driven Phase = " + driven + " chooses between two phases, and Phases/Count = 1");
+    if (!moving_only.empty())
+      fail("Phases/" + moving_only + " is read with a moving interface between two phases, and Phases/Count = 1");
     return;
   }
   const int dim = scene.dimension;
@@ -494,6 +498,8 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   if (!moving && !moving_only.empty())
     fail("Phases/" + moving_only + " is read with Phases/Interface = moving only (the phase field); with Interface "
          "= fixed the phases stay where they were put and nothing wets: set Interface = moving, or leave it out");
+  if (moving && !force_steps.empty() && !(body_force_magnitude(scene) > 0))
+    fail("Phases/Force Steps are factors of Fluid/Body Force, and Fluid/Body Force is zero");
   if (moving && !solid_angles.empty()) {
     // One angle per solid the scene names: its image's solid values, or its grains.
     const bool image = scene.image.voxels != nullptr;
@@ -548,6 +554,7 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   scene.interface_mobility = mobility;
   scene.contact_angle = wetting_angle;
   scene.solid_contact_angles.assign(solid_angles.begin(), solid_angles.end());
+  scene.force_steps.assign(force_steps.begin(), force_steps.end());
   scene.colour = phases.get<std::string>("Colour") == "phase" ? ColourFunction::Phase : ColourFunction::VolumeFraction;
 }
 

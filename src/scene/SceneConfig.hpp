@@ -196,6 +196,19 @@ struct SceneConfig {
   // Phases/Contact Angles: per Image/Solid Values entry (an image) or per
   // grain (grains), in degrees through phase 0; empty: contact_angle on all.
   std::vector<double> solid_contact_angles;
+  // Phases/Force Steps: the body force is force_steps[i] times body_force
+  // during the i-th of force_steps.size() equal spans of end_time; empty: it holds.
+  std::vector<double> force_steps;
+  // The factor of body_force at time t (1 without force steps).
+  double force_factor(double t) const {
+    if (force_steps.empty()) return 1.0;
+    const double span = end_time / static_cast<double>(force_steps.size());
+    const auto i = static_cast<std::size_t>(std::max(0.0, std::floor(t / span * (1 + 1e-12))));
+    return force_steps[std::min(i, force_steps.size() - 1)];
+  }
+  double largest_force_factor() const {
+    return force_steps.empty() ? 1.0 : *std::max_element(force_steps.begin(), force_steps.end());
+  }
   bool has_phases() const { return !phases.empty(); }
   // The body force's share on a phase: 1 where it acts, 0 where it does not.
   double phase_force_share(int phase) const { return driven_phase < 0 || driven_phase == phase ? 1.0 : 0.0; }
