@@ -2,12 +2,14 @@
 solids wet at their own angles (Phases/Contact Angles; input/two_phase/mixed_wet_floor.xml): by the circles
 perf/contact_angle.py fits, drop i from the left rests at ANGLE i degrees through itself, within TOLERANCE, and
 each phase's volume by the phase field is kept to 1e-10 of the fluid's (phases_history.csv, first row and last)."""
-import csv
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "perf"))
 import contact_angle  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(__file__))
+import check_phase_field_volumes  # noqa: E402
 
 directory, floor = sys.argv[1], float(sys.argv[2])
 angles, tolerance = [float(a) for a in sys.argv[3:-1]], float(sys.argv[-1])
@@ -16,9 +18,5 @@ for angle, drop in zip(angles, contact_angle.drops(points, len(angles))):
     measured = contact_angle.measure(drop, dx, floor, 3.0)
     print(f"drop at x = {measured['centre'][0]:.4g} m: {measured['drop_angle']:.2f} degrees through it, set {angle}")
     assert abs(measured["drop_angle"] - angle) < tolerance, (measured["drop_angle"], angle)
-rows = list(csv.DictReader(open(os.path.join(directory, "phases_history.csv"))))
-fluid = sum(float(rows[0][f"phase_field_volume_{p}"]) for p in (0, 1))
-for p in (0, 1):
-    first, last = float(rows[0][f"phase_field_volume_{p}"]), float(rows[-1][f"phase_field_volume_{p}"])
-    assert abs(last - first) < 1e-10 * fluid, (p, first, last)
+check_phase_field_volumes.volumes_kept(directory)
 print("each drop at its solid's angle")
