@@ -597,15 +597,24 @@ std::vector<double> Simulation<Dim, ExecSpace>::solid_wetting(std::size_t points
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::interface_stage() {
   const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), particles_.v);
-  const std::vector<long long> at = fluid_lattice_points();
-  std::vector<double> owned_velocity(static_cast<std::size_t>(particles_.owned) * Dim);
-  for (int i = 0; i < particles_.owned; ++i)
-    for (int d = 0; d < Dim; ++d) owned_velocity[static_cast<std::size_t>(i) * Dim + d] = v(i, d);
-  const LatticeValues all = gather_on_lattice(at, owned_velocity, Dim);
-  std::vector<Vec<Dim>> velocity(phase_field_->size(), Vec<Dim>::zero());
-  for (std::size_t j = 0; j < all.points.size(); ++j) {
-    Vec<Dim>& u = velocity[static_cast<std::size_t>(all.points[j])];
-    for (int d = 0; d < Dim; ++d) u[d] = all.values[j * Dim + d];
+  // Fixed particles keep their points until the neighbourhood is built anew (built_neighbourhood).
+  if (interface_points_.empty()) interface_points_ = fluid_lattice_points();
+  const std::vector<long long>& at = interface_points_;
+  std::vector<Vec<Dim>>& velocity = lattice_velocity_;  // kept: made anew each step it costs its pages
+  velocity.assign(phase_field_->size(), Vec<Dim>::zero());
+  if (comm_.size() == 1) {
+    for (int i = 0; i < particles_.owned; ++i)
+      if (at[static_cast<std::size_t>(i)] >= 0)
+        for (int d = 0; d < Dim; ++d) velocity[static_cast<std::size_t>(at[static_cast<std::size_t>(i)])][d] = v(i, d);
+  } else {
+    std::vector<double> owned_velocity(static_cast<std::size_t>(particles_.owned) * Dim);
+    for (int i = 0; i < particles_.owned; ++i)
+      for (int d = 0; d < Dim; ++d) owned_velocity[static_cast<std::size_t>(i) * Dim + d] = v(i, d);
+    const LatticeValues all = gather_on_lattice(at, owned_velocity, Dim);
+    for (std::size_t j = 0; j < all.points.size(); ++j) {
+      Vec<Dim>& u = velocity[static_cast<std::size_t>(all.points[j])];
+      for (int d = 0; d < Dim; ++d) u[d] = all.values[j * Dim + d];
+    }
   }
   phase_field_->advance(derived_.time_step, velocity);
   place_interface_forces(at);
@@ -661,8 +670,8 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::place_interface_forces(const std::vector<long long>& at) {
   const auto& phi = phase_field_->values();
   const bool forces = particles_.has_phase_acceleration;
-  std::vector<Vec<Dim>> surface;
-  if (forces && scene_.surface_tension > 0) surface = phase_field_->surface_force(scene_.surface_tension);
+  const std::vector<Vec<Dim>>* surface =
+      forces && scene_.surface_tension > 0 ? &phase_field_->surface_force(scene_.surface_tension) : nullptr;
   auto colour = Kokkos::create_mirror_view(particles_.colour);
   auto phase = Kokkos::create_mirror_view(particles_.phase);
   auto acceleration = Kokkos::create_mirror_view(particles_.phase_acceleration);
@@ -678,7 +687,7 @@ void Simulation<Dim, ExecSpace>::place_interface_forces(const std::vector<long l
     if (!forces) continue;
     // The finish adds the body force itself unless one phase alone is driven.
     Vec<Dim> a = scene_.driven_phase >= 0 ? scene_.phase_force_share(phase(i)) * body_force_ : Vec<Dim>::zero();
-    if (!surface.empty()) a += (1.0 / scene_.density) * surface[k];
+    if (surface) a += (1.0 / scene_.density) * (*surface)[k];
     for (int d = 0; d < Dim; ++d) acceleration(i, d) = a[d];
   }
   Kokkos::deep_copy(particles_.colour, colour);
@@ -877,6 +886,7 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood_only() {
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::built_neighbourhood() {
+  interface_points_.clear();  // the particles may have moved to other owners or places in their arrays
   if (extrapolate_walls_) wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
   if (fixed_) find_pair_geometry();
   // Fixed particles' lists are made for good: the cells (8 bytes a slot

@@ -384,6 +384,8 @@ class Simulation {
   SolidMap<Dim, MemorySpace> solid_map_;
   RigidGrains<Dim, ExecSpace> rigid_grains_;  // Grains/Motion = free or rotating
   std::unique_ptr<LatticePhaseField<Dim>> phase_field_;  // Phases/Interface = moving
+  std::vector<long long> interface_points_;  // fluid_lattice_points() since the neighbourhood was built; empty: none
+  std::vector<Vec<Dim>> lattice_velocity_;   // the interface stage's work array, on the whole lattice
   DrainagePlacement drainage_;  // phase 1 placed by drainage: where, and the curve (not the points: freed)
   bool measure_balance_ = false;  // moving particles on 2 or more processes
   BalanceRecord balance_;

@@ -159,10 +159,11 @@ class LatticePhaseField {
   void advance(double dt, const std::vector<Vec<Dim>>& velocity) {
     const int substeps = std::max(1, static_cast<int>(std::ceil(dt / stable_step() - 1e-12)));
     const double h = dt / substeps;
-    std::vector<double> change(phi_.size());
+    std::vector<double>& change = change_;  // only the fluid points' entries are read
+    change.resize(phi_.size());
     for (int s = 0; s < substeps; ++s) {
-      const std::vector<Vec<Dim>> n = normals();
-      std::fill(change.begin(), change.end(), 0.0);
+      const std::vector<Vec<Dim>>& n = normals();
+      for (std::size_t a : fluid_points_) change[a] = 0.0;
       for (std::size_t a : fluid_points_)
         for (int d = 0; d < Dim; ++d) {
           const long long b = neighbours_[slot(a, d, 1)];
@@ -191,10 +192,11 @@ class LatticePhaseField {
   }
 
   // The surface force sigma kappa grad phi (N/m^3) at each lattice point
-  // (zero at solid points).
-  std::vector<Vec<Dim>> surface_force(double sigma) const {
-    std::vector<Vec<Dim>> force(phi_.size(), Vec<Dim>::zero());
-    const std::vector<Vec<Dim>> n = normals();
+  // (zero at solid points), valid until the next call.
+  const std::vector<Vec<Dim>>& surface_force(double sigma) const {
+    std::vector<Vec<Dim>>& force = force_;
+    force.resize(phi_.size(), Vec<Dim>::zero());  // its solid points' entries stay zero
+    const std::vector<Vec<Dim>>& n = normals();
     for (std::size_t a : fluid_points_) {
       double divergence = 0;
       for (int d = 0; d < Dim; ++d)
@@ -269,13 +271,16 @@ class LatticePhaseField {
   // A gradient shorter than this is no interface: its direction is round-off.
   double least_gradient() const { return 1e-8 / settings_.width; }
 
-  std::vector<Vec<Dim>> normals() const {
-    std::vector<Vec<Dim>> n(phi_.size(), Vec<Dim>::zero());
+  // The unit normal at each fluid point (zero where there is no interface),
+  // valid until the next call; the solid points' entries are never read.
+  const std::vector<Vec<Dim>>& normals() const {
+    std::vector<Vec<Dim>>& n = normals_;
+    n.resize(phi_.size());
     const double least = least_gradient();
     for (std::size_t a : fluid_points_) {
       const Vec<Dim> g = gradient(a);
       const double norm = std::sqrt(dot(g, g));
-      if (norm > least) n[a] = (1.0 / norm) * g;
+      n[a] = norm > least ? (1.0 / norm) * g : Vec<Dim>::zero();
     }
     return n;
   }
@@ -305,6 +310,10 @@ class LatticePhaseField {
   // Per fluid point and face: the fluid neighbour's index; a solid one's as kSolidPoint - index; -1 beyond a wall.
   std::vector<long long> neighbours_;
   std::vector<double> phi_;
+  // Work arrays of the lattice's size, kept from call to call: made anew
+  // each step they cost more than the update (pages mapped and unmapped).
+  mutable std::vector<Vec<Dim>> normals_, force_;
+  std::vector<double> change_;
 };
 
 }  // namespace poresph
