@@ -228,11 +228,11 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   if (scene.image.voxels) e.bytes_per_process += 10.0 * static_cast<double>(scene.image.voxels->count());
   // A moving interface's phase field is whole on every process (physics/PhaseField.hpp):
   // at its peak, in the interface stage, per lattice point the fluid flag (1), phi,
-  // the fluid points' list, the update's change and the gathered points (8 each),
-  // the neighbours (2 D values of 8 bytes), and five vectors of D values: the
-  // velocities gathered and spread, the normals of the update and of the force,
-  // and the surface force.
-  if (scene.moving_interface) e.bytes_per_process += (33.0 + 56.0 * D) * static_cast<double>(e.lattice_points);
+  // the fluid points' list, the update's change, the gathered points, the fluid
+  // particles' points and the solids' cos(theta) (8 each), the neighbours (2 D
+  // values of 8 bytes), and four vectors of D values: the velocities gathered
+  // and on the lattice, the normals and the surface force.
+  if (scene.moving_interface) e.bytes_per_process += (49.0 + 48.0 * D) * static_cast<double>(e.lattice_points);
   // The steady solver (as its bytes_per_particle counts): its vectors for
   // the owned particles with the Krylov bases at their whole restart
   // (steady_vector_values); per process, the two lattice preconditioners,
