@@ -38,32 +38,15 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-
-def parameter(root, path):
-    node = root
-    for name in path.split("/")[:-1]:
-        node = next(n for n in node.findall("ParameterList") if n.get("name") == name)
-    leaf = next(n for n in node.findall("Parameter") if n.get("name") == path.split("/")[-1])
-    return leaf.get("value")
-
-
-def numbers(text):
-    return [float(v) for v in text.strip("{} ").split(",")]
+from run_parameters import numbers, parameter
+import run_parameters
 
 
 def plates(run, root):
     """The solid columns of the image's middle row, grouped into the plates' x extents (voxels)."""
-    shape = [int(v) for v in numbers(parameter(root, "Image/Shape"))]
-    path = parameter(root, "Image/File")
-    # Relative to the scene's folder, which the run does not record: tried beside the run, here, and
-    # in the shipped scenes' folder.
-    shipped = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "input", "two_phase")
-    found = [p for p in (os.path.join(run, "..", path), path, os.path.join(shipped, path)) if os.path.exists(p)]
-    if not os.path.isabs(path) and not found:
-        sys.exit(f"{run}: cannot find the image {path}")
-    image = np.fromfile(path if os.path.isabs(path) else found[0], dtype=np.uint8)
-    solid = set(int(v) for v in numbers(parameter(root, "Image/Solid Values")))
-    row = image.reshape(shape[1], shape[0])[shape[1] // 2]
+    grid, solid, _ = run_parameters.scene_image(run, root)
+    shape = (grid.shape[1], grid.shape[0])
+    row = grid[shape[1] // 2]
     columns = [i for i in range(shape[0]) if int(row[i]) in solid]
     groups = []
     for i in columns:
@@ -73,7 +56,6 @@ def plates(run, root):
             groups.append([i, i + 1])
     if len(groups) != 2:
         sys.exit(f"{run}: the image's middle row holds {len(groups)} solid runs, not two plates")
-    grid = image.reshape(shape[1], shape[0])
     rows = [j for j in range(shape[1]) if int(grid[j, groups[0][0]]) in solid]
     return groups, shape[0], min(rows), max(rows) + 1
 

@@ -37,40 +37,14 @@ import xml.etree.ElementTree as ET
 import h5py
 import numpy as np
 
-
-def parameter(root, path, default=None):
-    node = root
-    try:
-        for name in path.split("/")[:-1]:
-            node = next(n for n in node.findall("ParameterList") if n.get("name") == name)
-        leaf = next(n for n in node.findall("Parameter") if n.get("name") == path.split("/")[-1])
-    except StopIteration:
-        if default is None:
-            raise
-        return default
-    return leaf.get("value")
-
-
-def numbers(text):
-    return [float(v) for v in text.strip("{} ").split(",")]
+from run_parameters import numbers, parameter
+import run_parameters
 
 
 def image(run, root):
     """The solid image (ny, nx) as booleans, and its voxel size."""
-    shape = [int(v) for v in numbers(parameter(root, "Image/Shape"))]
-    path = parameter(root, "Image/File")
-    # Relative to the scene's folder, which the run does not record: tried beside the run, here, and in
-    # the shipped scenes' folder.
-    shipped = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "input", "two_phase")
-    for folder in ("", run, shipped):
-        candidate = os.path.join(folder, path)
-        if os.path.exists(candidate):
-            break
-    else:
-        sys.exit(f"throat_entry: image {path} not found beside the run, here or in {shipped}")
-    values = np.fromfile(candidate, dtype=np.uint8).reshape(shape[1], shape[0])
-    solid_values = [int(v) for v in numbers(parameter(root, "Image/Solid Values"))]
-    return np.isin(values, solid_values), float(parameter(root, "Image/Voxel Size"))
+    values, solid, voxel = run_parameters.scene_image(run, root)
+    return np.isin(values, list(solid)), voxel
 
 
 class Scene:
