@@ -607,14 +607,28 @@ void Simulation<Dim, ExecSpace>::interface_stage() {
       if (at[static_cast<std::size_t>(i)] >= 0)
         for (int d = 0; d < Dim; ++d) velocity[static_cast<std::size_t>(at[static_cast<std::size_t>(i)])][d] = v(i, d);
   } else {
-    std::vector<double> owned_velocity(static_cast<std::size_t>(particles_.owned) * Dim);
-    for (int i = 0; i < particles_.owned; ++i)
-      for (int d = 0; d < Dim; ++d) owned_velocity[static_cast<std::size_t>(i) * Dim + d] = v(i, d);
-    const LatticeValues all = gather_on_lattice(at, owned_velocity, Dim);
-    for (std::size_t j = 0; j < all.points.size(); ++j) {
-      Vec<Dim>& u = velocity[static_cast<std::size_t>(all.points[j])];
-      for (int d = 0; d < Dim; ++d) u[d] = all.values[j * Dim + d];
+    // Every process's fluid points, gathered once with its counts (they stay
+    // until the neighbourhood is built anew); then the velocities alone.
+    if (gathered_points_.empty()) {
+      std::vector<long long> mine;
+      for (long long k : at)
+        if (k >= 0) mine.push_back(k);
+      gathered_counts_ = comm_.all_gather_counts(static_cast<int>(mine.size()));
+      long long total = 0;
+      for (int count : gathered_counts_) total += count;
+      gathered_points_.resize(static_cast<std::size_t>(total));
+      comm_.all_gather(mine.data(), gathered_counts_, gathered_points_.data());
+      for (int& count : gathered_counts_) count *= Dim;  // the velocities' values
     }
+    std::vector<double> owned_velocity;
+    owned_velocity.reserve(static_cast<std::size_t>(particles_.owned) * Dim);
+    for (int i = 0; i < particles_.owned; ++i)
+      if (at[static_cast<std::size_t>(i)] >= 0)
+        for (int d = 0; d < Dim; ++d) owned_velocity.push_back(v(i, d));
+    std::vector<double> all(gathered_points_.size() * Dim);
+    comm_.all_gather(owned_velocity.data(), gathered_counts_, all.data());
+    for (std::size_t j = 0; j < gathered_points_.size(); ++j)
+      for (int d = 0; d < Dim; ++d) velocity[static_cast<std::size_t>(gathered_points_[j])][d] = all[j * Dim + d];
   }
   phase_field_->advance(derived_.time_step, velocity);
   place_interface_forces(at);
@@ -886,7 +900,8 @@ void Simulation<Dim, ExecSpace>::refresh_neighbourhood_only() {
 
 template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::built_neighbourhood() {
-  interface_points_.clear();  // the particles may have moved to other owners or places in their arrays
+  // The particles may have moved to other owners or places in their arrays.
+  interface_points_.clear(), gathered_points_.clear();
   if (extrapolate_walls_) wall_neighbours_.build(space_, neighbourhood_.cells(), particles_, neighbourhood_.reach());
   if (fixed_) find_pair_geometry();
   // Fixed particles' lists are made for good: the cells (8 bytes a slot

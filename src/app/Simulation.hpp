@@ -386,6 +386,10 @@ class Simulation {
   std::unique_ptr<LatticePhaseField<Dim>> phase_field_;  // Phases/Interface = moving
   std::vector<long long> interface_points_;  // fluid_lattice_points() since the neighbourhood was built; empty: none
   std::vector<Vec<Dim>> lattice_velocity_;   // the interface stage's work array, on the whole lattice
+  // Every process's interface_points_ (fluid ones), in rank order, and the
+  // velocity values each sends (Dim a point); empty: to gather.
+  std::vector<long long> gathered_points_;
+  std::vector<int> gathered_counts_;
   DrainagePlacement drainage_;  // phase 1 placed by drainage: where, and the curve (not the points: freed)
   bool measure_balance_ = false;  // moving particles on 2 or more processes
   BalanceRecord balance_;
