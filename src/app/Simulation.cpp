@@ -338,22 +338,18 @@ template <int Dim, class ExecSpace>
 bool Simulation<Dim, ExecSpace>::image_phase_one(const double* x) const {
   const auto& values = scene_.phases[1].image_values;
   const auto& solid = scene_.image.solid_values;
-  // -1 solid, 0 phase 0, 1 phase 1, of the voxel `offset` from x's.
-  auto label = [&](const long long (&offset)[3]) {
-    const int value = image_value(x, offset);
+  // -1 solid, 0 phase 0, 1 phase 1, of a voxel's value.
+  auto label = [&](int value) {
     if (std::find(solid.begin(), solid.end(), value) != solid.end()) return -1;
     return std::find(values.begin(), values.end(), value) != values.end() ? 1 : 0;
   };
-  const int own = label({0, 0, 0});
+  const int own = label(image_value(x, {0, 0, 0}));
   if (own >= 0) return own == 1;
   int votes[2] = {0, 0};
-  const int reach[3] = {1, Dim > 1 ? 1 : 0, Dim > 2 ? 1 : 0};
-  for (long long k = -reach[2]; k <= reach[2]; ++k)
-    for (long long j = -reach[1]; j <= reach[1]; ++j)
-      for (long long i = -reach[0]; i <= reach[0]; ++i) {
-        const int l = label({i, j, k});
-        if (l >= 0) ++votes[l];
-      }
+  for (int value : image_block_values(x)) {
+    const int l = label(value);
+    if (l >= 0) ++votes[l];
+  }
   return votes[1] > votes[0];
 }
 
@@ -376,6 +372,17 @@ int Simulation<Dim, ExecSpace>::image_value(const double* x, const long long (&o
     at[d] = i;
   }
   return voxels.at(at[0], at[1], at[2]);
+}
+
+// The values of the 3^Dim voxels about the one holding x, itself among them.
+template <int Dim, class ExecSpace>
+std::vector<int> Simulation<Dim, ExecSpace>::image_block_values(const double* x) const {
+  std::vector<int> values;
+  const int reach[3] = {1, Dim > 1 ? 1 : 0, Dim > 2 ? 1 : 0};
+  for (long long k = -reach[2]; k <= reach[2]; ++k)
+    for (long long j = -reach[1]; j <= reach[1]; ++j)
+      for (long long i = -reach[0]; i <= reach[0]; ++i) values.push_back(image_value(x, {i, j, k}));
+  return values;
 }
 
 // A fluid particle's lattice point as an index of the whole lattice
@@ -569,13 +576,10 @@ std::vector<double> Simulation<Dim, ExecSpace>::solid_wetting(std::size_t points
       which = solid_index(image_value(p, {0, 0, 0}));
       if (which == solids) {
         std::vector<int> votes(static_cast<std::size_t>(solids), 0);
-        const int reach[3] = {1, Dim > 1 ? 1 : 0, Dim > 2 ? 1 : 0};
-        for (long long k = -reach[2]; k <= reach[2]; ++k)
-          for (long long j = -reach[1]; j <= reach[1]; ++j)
-            for (long long l = -reach[0]; l <= reach[0]; ++l) {
-              const int s = solid_index(image_value(p, {l, j, k}));
-              if (s < solids) ++votes[static_cast<std::size_t>(s)];
-            }
+        for (int value : image_block_values(p)) {
+          const int s = solid_index(value);
+          if (s < solids) ++votes[static_cast<std::size_t>(s)];
+        }
         const auto most = std::max_element(votes.begin(), votes.end());
         which = *most > 0 ? static_cast<int>(most - votes.begin()) : -1;
       }
@@ -717,8 +721,7 @@ template <int Dim, class ExecSpace>
 void Simulation<Dim, ExecSpace>::place_phase_body_force(const Vec<Dim>& body_force) {
   const auto acceleration = particles_.phase_acceleration;
   const auto kind = particles_.kind, phase = particles_.phase;
-  PhaseBodyForce<Dim, MemorySpace> force = phase_body_force();
-  for (int p = 0; p < 2; ++p) force.force[p] = scene_.phase_force_share(p) * body_force;
+  const PhaseBodyForce<Dim, MemorySpace> force = phase_body_force(body_force);
   static const std::string label = "poresph::place_phase_body_force";
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(space_, 0, particles_.owned), KOKKOS_LAMBDA(int a) {
@@ -747,11 +750,12 @@ void Simulation<Dim, ExecSpace>::force_step_stage() {
 }
 
 template <int Dim, class ExecSpace>
-PhaseBodyForce<Dim, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>::phase_body_force() const {
+PhaseBodyForce<Dim, typename ExecSpace::memory_space> Simulation<Dim, ExecSpace>::phase_body_force(
+    const Vec<Dim>& body_force) const {
   PhaseBodyForce<Dim, MemorySpace> force;
   if (scene_.driven_phase < 0) return force;
   force.phase = particles_.phase;
-  for (int p = 0; p < 2; ++p) force.force[p] = scene_.phase_force_share(p) * body_force_;
+  for (int p = 0; p < 2; ++p) force.force[p] = scene_.phase_force_share(p) * body_force;
   return force;
 }
 
@@ -860,7 +864,7 @@ void Simulation<Dim, ExecSpace>::update_wall_pressure() {
   if (!extrapolate_walls_) return;
   extrapolate_wall_pressure(space_, particles_, wall_neighbours_, kernel_, body_force_,
                             derived_.sound_speed * derived_.sound_speed, scene_.density, reference_pressure_,
-                            volume_density_, rigid_grains_.wall_acceleration(), phase_body_force());
+                            volume_density_, rigid_grains_.wall_acceleration(), phase_body_force(body_force_));
   space_.fence();
   neighbourhood_.update_ghosts(particles_);
 }
@@ -1004,7 +1008,7 @@ bool Simulation<Dim, ExecSpace>::take_linear_state() {
     if (extrapolate_walls_) {
       const double c2 = derived_.sound_speed * derived_.sound_speed;
       wall_pressure_weights_ = WallPressureWeights<Dim, ExecSpace>(space_, particles_, wall_neighbours_, kernel_,
-                                                                   body_force_, c2, phase_body_force());
+                                                                   body_force_, c2, phase_body_force(body_force_));
     }
   }
   // Each slot's d(p/rho^2)/dp at the state: fluid and boundary particles

@@ -320,6 +320,7 @@ class Simulation {
   long long lattice_point_index(const double* x) const;
   bool image_phase_one(const double* x) const;  // phase 1 by the image's labels
   int image_value(const double* x, const long long (&offset)[3]) const;  // of the voxel offset from x's
+  std::vector<int> image_block_values(const double* x) const;            // of the 3^Dim voxels about x's
   void place_surface_tension();  // at set-up: each fluid particle's surface-tension acceleration
   // The body force on one phase (of body_force's size) into its particles' acceleration.
   void place_phase_body_force(const Vec<Dim>& body_force);
@@ -343,8 +344,8 @@ class Simulation {
   LatticeValues gather_on_lattice(const std::vector<long long>& at, const std::vector<double>& values,
                                   int components) const;
   // The force per phase a wall's pressure takes from the fluid beside it
-  // (Phases/Driven Phase; empty with one force for all the fluid).
-  PhaseBodyForce<Dim, MemorySpace> phase_body_force() const;
+  // (Phases/Driven Phase), of body_force; empty with one force for all the fluid.
+  PhaseBodyForce<Dim, MemorySpace> phase_body_force(const Vec<Dim>& body_force) const;
   Vec<Dim> finish_body_force() const;  // the force the finish adds to every fluid particle
   void start_moving_grains();    // at set-up: the grain of each particle, the fluid's share of gravity
   void couple_grains();          // the fluid's share of the body force, the loads, the spins in the no-slip

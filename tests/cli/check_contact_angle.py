@@ -15,9 +15,9 @@ import check_phase_field_volumes  # noqa: E402
 
 directory, angle, tolerance = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
 points, dx = contact_angle.interface_points(os.path.join(directory, "particles.csv"))
+measured = contact_angle.measure(points, dx, 0.0, 3.0)
+drop, centre, radius = measured["drop_angle"], measured["centre"], measured["radius"]
 above = points[points[:, 1] > 3 * dx]
-centre, radius = contact_angle.fit_sphere(above)
-drop = math.degrees(math.acos(-centre[1] / radius))
 off = max(abs(math.dist(p, centre) - radius) for p in above) / dx
 assert abs(drop - angle) < tolerance, f"the drop's angle is {drop:.2f} degrees, set {angle}"
 assert off < 0.1, f"the interface is {off:.3f} spacings off its circle"
