@@ -515,6 +515,7 @@ void Simulation<Dim, ExecSpace>::make_phase_field() {
     cells[d] = std::llround(scene_.cell_size[d] / dx), periodic[d] = scene_.periodic[d];
   PhaseFieldSettings settings;
   settings.width = scene_.interface_width * dx;
+  settings.smoothing_length = scene_.smoothing_length_ratio * dx;
   settings.cos_contact_angle = std::cos(scene_.contact_angle * 3.14159265358979323846 / 180);
   double mobility = scene_.interface_mobility;
   if (!(mobility > 0)) {

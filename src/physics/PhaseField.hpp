@@ -36,10 +36,26 @@
 // 2000, is its first term; a cap at 30 degrees crept further with it:
 // docs/method.md). At theta = 90 degrees it is a mirror of a.
 //
+// The sharpening's phi (1 - phi) on a face is taken from the layer's
+// distance s = epsilon ln(phi / (1 - phi)) averaged over the face's two
+// points, 1/4 (1 - tanh^2(s / 2 epsilon)), not from the mean of phi (the
+// accurate conservative diffuse interface of Jain 2022, J. Comput. Phys.
+// 469, 111529): s is linear across the layer, phi is not, so the face's
+// weight is the profile's at the face and the flat layer is nearly a
+// discrete rest state in every direction; from the mean of phi a cap of
+// the update alone squares towards the lattice's axes (docs/method.md).
+// The normals are those of grad s, which the layer's profile does not bend.
+//
 // The surface force is the continuum surface force sigma kappa grad phi
 // (Brackbill, Kothe & Zemach 1992), kappa = -div n, with grad phi the
 // interface's delta function; at a solid face n's normal component is the
 // wetting condition's, which is what pulls a contact line to its angle.
+// Its grad phi is the SPH operator the pressure term applies, sum_b V_b
+// (phi_a + phi_b) grad_a W_ab over the kernel's support on the lattice, a
+// solid point b (or one beyond a wall) taking the fluid's phi extrapolated
+// to it as a wall's pressure is (its Shepard mean): a uniform kappa is then
+// balanced exactly by a pressure sigma kappa phi, and what drives spurious
+// currents is kappa's variation alone.
 //
 // Host vectors on the whole lattice of the cell: each process holds all of
 // it and advances it alike (app/Simulation.cpp gathers the velocities).
@@ -51,6 +67,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/Kernel.hpp"
 #include "core/Vec.hpp"
 
 namespace poresph {
@@ -59,6 +76,7 @@ struct PhaseFieldSettings {
   double width = 0;              // epsilon (m)
   double mobility = 0;           // gamma (m/s)
   double cos_contact_angle = 0;  // cos(theta), theta through phase 0
+  double smoothing_length = 0;   // h of the kernel whose pressure term the surface force meets (m); 0: the spacing
 };
 
 // The layer's value a distance s from its middle along n (towards phase 1).
@@ -112,6 +130,7 @@ class LatticePhaseField {
           neighbours_[slot(k, d, side)] = fluid_[m] ? at : kSolidPoint - at;
         }
     }
+    make_force_stencil(periodic);
   }
 
   std::size_t size() const {
@@ -192,11 +211,13 @@ class LatticePhaseField {
   }
 
   // The surface force sigma kappa grad phi (N/m^3) at each lattice point
-  // (zero at solid points), valid until the next call.
+  // (zero at solid points), grad phi by the pressure term's operator
+  // (pressure_gradient), valid until the next call.
   const std::vector<Vec<Dim>>& surface_force(double sigma) const {
     std::vector<Vec<Dim>>& force = force_;
     force.resize(phi_.size(), Vec<Dim>::zero());  // its solid points' entries stay zero
     const std::vector<Vec<Dim>>& n = normals();
+    extrapolate_to_walls();
     for (std::size_t a : fluid_points_) {
       double divergence = 0;
       for (int d = 0; d < Dim; ++d)
@@ -209,7 +230,11 @@ class LatticePhaseField {
           divergence += side ? face : -face;
         }
       const double kappa = -divergence / dx_;
-      force[a] = (sigma * kappa) * gradient(a);
+      // Where phi (1 - phi) is below 1e-10 the layer's profile puts every
+      // phi of the stencil within e^(3h / epsilon) times that of 0 or 1: a
+      // force of that order next to the layer's is not summed.
+      force[a] = kappa != 0 && layer_weight(phi_[a]) > 1e-10 ? (sigma * kappa) * pressure_gradient(a)
+                                                               : Vec<Dim>::zero();
     }
     return force;
   }
@@ -226,12 +251,72 @@ class LatticePhaseField {
   // second alone put a drop at 150 degrees at 160; the smaller of the two
   // settles both.
   Vec<Dim> gradient(std::size_t a) const {
-    Vec<Dim> g = Vec<Dim>::zero();
-    // The value a neighbour across face b has, or a solid one takes.
-    const auto value = [&](long long b) {
+    return wall_gradient(a, [&](long long b) {
       return b >= 0 ? phi_[static_cast<std::size_t>(b)]
                     : wetting_neighbour_value(phi_[a], dx_, settings_.width, wetting_cos(b));
-    };
+    });
+  }
+
+  // The layer's distance s = epsilon ln(phi / (1 - phi)) of a value, phi
+  // held 1e-12 inside (0, 1): the bulk's s is flat, and so its normal zero.
+  double layer_distance(double phi) const {
+    const double p = std::clamp(phi, kLeastLayer, 1 - kLeastLayer);
+    return settings_.width * std::log(p / (1 - p));
+  }
+
+  // phi on the padded lattice for pressure_gradient(): the fluid points'
+  // own (periodic copies in the padding), and at each solid point or point
+  // beyond a wall that a fluid point's stencil reaches, the Shepard mean of
+  // the fluid's about it (sum_f phi_f W / sum_f W), as a wall's pressure is
+  // extrapolated (physics/WallPressure.hpp): then the pressure sigma kappa
+  // phi that the surface force asks for is what the wall takes from the
+  // fluid. Valid until phi changes.
+  void extrapolate_to_walls() const {
+    for (std::size_t p = 0; p < padded_source_.size(); ++p)
+      padded_phi_[p] = padded_source_[p] >= 0 ? phi_[static_cast<std::size_t>(padded_source_[p])] : 0.0;
+    for (std::size_t q : wall_points_) {
+      double sum = 0, weights = 0;
+      for (const StencilOffset& o : stencil_) {
+        const std::size_t f = q + static_cast<std::size_t>(o.step);  // unsigned wrap-around adds a negative step
+        if (padded_source_[f] < 0) continue;
+        sum += padded_phi_[f] * o.weight, weights += o.weight;
+      }
+      padded_phi_[q] = weights > 0 ? sum / weights : 0.0;
+    }
+  }
+
+  // grad phi at fluid point a by the pressure term's SPH operator,
+  // sum_b V (phi_a + phi_b) grad_a W_ab over the kernel's support, as the
+  // last extrapolate_to_walls() left phi.
+  Vec<Dim> pressure_gradient(std::size_t a) const {
+    const std::size_t p = padded_index(point(a));
+    Vec<Dim> g = Vec<Dim>::zero();
+    for (const StencilOffset& o : stencil_)
+      g += (phi_[a] + padded_phi_[p + static_cast<std::size_t>(o.step)]) * o.volume_gradient;
+    return g;
+  }
+
+ private:
+  // neighbours_ of a face into a solid lattice point m: kSolidPoint - m; beyond a wall: -1.
+  static constexpr long long kSolidPoint = -2;
+
+  // cos(theta) of the solid across a face whose neighbours_ entry is b < 0.
+  double wetting_cos(long long b) const {
+    if (solid_cos_.empty() || b == -1) return settings_.cos_contact_angle;
+    return solid_cos_[static_cast<std::size_t>(kSolidPoint - b)];
+  }
+
+  static constexpr double kLeastLayer = 1e-12;
+
+  // The central differences of a field at fluid point a, value(b) the
+  // value across face b (a solid neighbour's too), and beside a flat
+  // stretch of solid (a solid neighbour across one axis only) the component
+  // along the wall's normal n_w the smaller of that difference and the
+  // geometric condition's cot(theta) |grad_t| (the tangential part from the
+  // other axes' differences).
+  template <class Value>
+  Vec<Dim> wall_gradient(std::size_t a, const Value& value) const {
+    Vec<Dim> g = Vec<Dim>::zero();
     int wall_axis = -1, walls = 0;
     long long wall_face = -1;
     for (int d = 0; d < Dim; ++d) {
@@ -252,14 +337,89 @@ class LatticePhaseField {
     return g;
   }
 
- private:
-  // neighbours_ of a face into a solid lattice point m: kSolidPoint - m; beyond a wall: -1.
-  static constexpr long long kSolidPoint = -2;
+  // grad s at fluid point a, s = epsilon ln(phi / (1 - phi)) the layer's
+  // distance, a solid neighbour's s_a - dx cos(theta) (the wetting value
+  // above, in s), with the same rule beside a flat stretch of solid; from
+  // the distances normals() keeps.
+  Vec<Dim> distance_gradient(std::size_t a) const {
+    return wall_gradient(a, [&](long long b) {
+      return b >= 0 ? distance_[static_cast<std::size_t>(b)] : distance_[a] - dx_ * wetting_cos(b);
+    });
+  }
 
-  // cos(theta) of the solid across a face whose neighbours_ entry is b < 0.
-  double wetting_cos(long long b) const {
-    if (solid_cos_.empty() || b == -1) return settings_.cos_contact_angle;
-    return solid_cos_[static_cast<std::size_t>(kSolidPoint - b)];
+  // The kernel's support on the lattice: each offset o with 0 < |o| dx <
+  // 3h, as a step in the padded lattice's index, with V grad_a W_ab for
+  // b = a + o (x_a - x_b = -o dx) and W(|o| dx).
+  struct StencilOffset {
+    long long step;
+    Vec<Dim> volume_gradient;
+    double weight;
+  };
+
+  // The padded lattice: twice the kernel's reach more on each side (copies
+  // across periodic ends, points beyond walls), so that a stencil about any
+  // point it reaches stays inside. Its points' sources, and the non-fluid
+  // points that some fluid point's stencil reaches.
+  void make_force_stencil(const std::array<bool, Dim>& periodic) {
+    const QuinticKernel<Dim> kernel(settings_.smoothing_length > 0 ? settings_.smoothing_length : dx_);
+    const auto reach = static_cast<long long>(std::ceil(kernel.cutoff / dx_ - 1e-9));
+    std::size_t padded_points = 1;
+    padding_ = 2 * reach;
+    for (int d = 0; d < Dim; ++d) {
+      padded_cells_[d] = cells_[d] + 2 * padding_;
+      padded_points *= static_cast<std::size_t>(padded_cells_[d]);
+    }
+    double volume = 1;
+    for (int d = 0; d < Dim; ++d) volume *= dx_;
+    Index o{};
+    o.fill(-reach);
+    while (true) {
+      double r2 = 0;
+      long long step = 0;
+      for (int d = Dim - 1; d >= 0; --d) r2 += static_cast<double>(o[d] * o[d]), step = step * padded_cells_[d] + o[d];
+      const double r = std::sqrt(r2) * dx_;
+      if (r2 > 0 && r < kernel.cutoff) {
+        StencilOffset s{step, Vec<Dim>::zero(), kernel.value(r)};
+        for (int d = 0; d < Dim; ++d) s.volume_gradient[d] = -volume * kernel.derivative_over_r(r) * o[d] * dx_;
+        stencil_.push_back(s);
+      }
+      int d = 0;
+      while (d < Dim && ++o[d] > reach) o[d] = -reach, ++d;
+      if (d == Dim) break;
+    }
+    // Each padded point's lattice point (periodic ends wrapped), -1 where
+    // that is solid or beyond a wall.
+    padded_source_.assign(padded_points, -1);
+    for (std::size_t p = 0; p < padded_points; ++p) {
+      std::size_t rest = p;
+      Index j{};
+      bool beyond = false;
+      for (int d = 0; d < Dim; ++d) {
+        j[d] = static_cast<long long>(rest % static_cast<std::size_t>(padded_cells_[d])) - padding_;
+        rest /= static_cast<std::size_t>(padded_cells_[d]);
+        if (j[d] < 0 || j[d] >= cells_[d]) {
+          if (!periodic[d]) beyond = true;
+          j[d] = (j[d] % cells_[d] + cells_[d]) % cells_[d];
+        }
+      }
+      if (!beyond && fluid_[index(j)]) padded_source_[p] = static_cast<long long>(index(j));
+    }
+    std::vector<char> reached(padded_points, 0);
+    for (std::size_t a : fluid_points_) {
+      const std::size_t p = padded_index(point(a));
+      for (const StencilOffset& s : stencil_) {
+        const std::size_t q = p + static_cast<std::size_t>(s.step);
+        if (padded_source_[q] < 0 && !reached[q]) reached[q] = 1, wall_points_.push_back(q);
+      }
+    }
+    padded_phi_.assign(padded_points, 0.0);
+  }
+
+  std::size_t padded_index(const Index& i) const {
+    std::size_t k = 0;
+    for (int d = Dim - 1; d >= 0; --d)
+      k = k * static_cast<std::size_t>(padded_cells_[d]) + static_cast<std::size_t>(i[d] + padding_);
+    return k;
   }
 
   std::size_t slot(std::size_t k, int d, int side) const {
@@ -268,19 +428,20 @@ class LatticePhaseField {
 
   static double layer_weight(double phi) { return std::max(0.0, phi * (1 - phi)); }
 
-  // A gradient shorter than this is no interface: its direction is round-off.
-  double least_gradient() const { return 1e-8 / settings_.width; }
+  // A gradient of s shorter than this is no interface: its direction is round-off.
+  static constexpr double kLeastGradient = 1e-8;
 
   // The unit normal at each fluid point (zero where there is no interface),
   // valid until the next call; the solid points' entries are never read.
   const std::vector<Vec<Dim>>& normals() const {
     std::vector<Vec<Dim>>& n = normals_;
     n.resize(phi_.size());
-    const double least = least_gradient();
+    distance_.resize(phi_.size());
+    for (std::size_t a : fluid_points_) distance_[a] = layer_distance(phi_[a]);
     for (std::size_t a : fluid_points_) {
-      const Vec<Dim> g = gradient(a);
+      const Vec<Dim> g = distance_gradient(a);
       const double norm = std::sqrt(dot(g, g));
-      n[a] = norm > least ? (1.0 / norm) * g : Vec<Dim>::zero();
+      n[a] = norm > kLeastGradient ? (1.0 / norm) * g : Vec<Dim>::zero();
     }
     return n;
   }
@@ -294,11 +455,13 @@ class LatticePhaseField {
   }
 
   // phi's Allen-Cahn flux (phi m/s) from a to b = a + e_d across their
-  // face: the diffusion and the sharpening.
+  // face: the diffusion and the sharpening, whose phi (1 - phi) is the
+  // profile's at the face's distance (the mean of its points' s).
   double allen_cahn_flux(std::size_t a, std::size_t b, int d, const std::vector<Vec<Dim>>& n) const {
-    const double phi = 0.5 * (phi_[a] + phi_[b]);
+    const double t = std::tanh((distance_[a] + distance_[b]) / (4 * settings_.width));
+    const double layer = 0.25 * (1 - t * t);  // phi (1 - phi) of the profile at the face's s
     const double slope = (phi_[b] - phi_[a]) / dx_;
-    return -settings_.mobility * (settings_.width * slope - phi * (1 - phi) * face_normal(n[a], n[b], d));
+    return -settings_.mobility * (settings_.width * slope - layer * face_normal(n[a], n[b], d));
   }
 
   Index cells_;
@@ -310,9 +473,19 @@ class LatticePhaseField {
   // Per fluid point and face: the fluid neighbour's index; a solid one's as kSolidPoint - index; -1 beyond a wall.
   std::vector<long long> neighbours_;
   std::vector<double> phi_;
+  // The surface force's SPH operator: its stencil on the padded lattice,
+  // the padded points' sources, the solid points and points beyond a wall
+  // that it reaches, and phi on the padded lattice (extrapolate_to_walls).
+  std::vector<StencilOffset> stencil_;
+  long long padding_ = 0;
+  Index padded_cells_{};
+  std::vector<long long> padded_source_;  // per padded point: its fluid point's index, or -1
+  std::vector<std::size_t> wall_points_;  // padded points that are not fluid, in some fluid point's stencil
+  mutable std::vector<double> padded_phi_;
   // Work arrays of the lattice's size, kept from call to call: made anew
   // each step they cost more than the update (pages mapped and unmapped).
   mutable std::vector<Vec<Dim>> normals_, force_;
+  mutable std::vector<double> distance_;  // s of each fluid point, as normals() last found it
   std::vector<double> change_;
 };
 
