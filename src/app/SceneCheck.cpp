@@ -230,9 +230,17 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   // at its peak, in the interface stage, per lattice point the fluid flag (1), phi,
   // the fluid points' list, the update's change, the gathered points, the fluid
   // particles' points and the solids' cos(theta) (8 each), the neighbours (2 D
-  // values of 8 bytes), and four vectors of D values: the velocities gathered
-  // and on the lattice, the normals and the surface force.
-  if (scene.moving_interface) e.bytes_per_process += (49.0 + 48.0 * D) * static_cast<double>(e.lattice_points);
+  // values of 8 bytes), the layer's distance s (8), and four vectors of D
+  // values: the velocities gathered and on the lattice, the normals and the
+  // surface force; and on the lattice padded by twice the kernel's reach each
+  // side, the surface force's phi, each point's source and at most one
+  // reached wall point's index (8 each).
+  if (scene.moving_interface) {
+    const double reach = std::ceil(kSupportRadiusInH * scene.smoothing_length_ratio - 1e-9);
+    double padded = 1;
+    for (int d = 0; d < D; ++d) padded *= static_cast<double>(counts[d]) + 4 * reach;
+    e.bytes_per_process += (57.0 + 48.0 * D) * static_cast<double>(e.lattice_points) + 24.0 * padded;
+  }
   // The steady solver (as its bytes_per_particle counts): its vectors for
   // the owned particles with the Krylov bases at their whole restart
   // (steady_vector_values); per process, the two lattice preconditioners,
