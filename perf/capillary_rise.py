@@ -9,14 +9,21 @@ their difference with Jurin's for two gaps of widths w (inside) and W (outside):
 
     dh = (2 sigma cos(theta) / (rho |F|)) (1/w - 1/W)
 
-theta through the liquid (phase 1, the driven one): 180 degrees less Phases/Contact Angle.
+theta through the liquid (phase 1, the driven one): 180 degrees less Phases/Contact Angle. That
+form takes each meniscus for an arc of a circle, which holds for a gap narrow beside the capillary
+length l_c = sqrt(sigma / (rho |F|)). Where a gap is not (the scene's outer gap is 3.5 l_c wide, and
+its meniscus flattens in the middle), the menisci are the solutions of the Young-Laplace equation
+with gravity, sigma u'' / (1 + u'^2)^(3/2) = rho |F| u (u the height over the level where the
+liquid's pressure is the other phase's), level in each gap's middle and meeting its walls at theta;
+the difference of their middles is the rest the run should reach. Both are printed; the law below
+rests at the second.
 The plates are read from the image: the solid columns of its middle row, and their lower end.
 
 With --fields, each frame's heights are set beside the Lucas-Washburn law of the narrow gap with
 gravity and the displaced fluid (Bosanquet's form, with the column's inertia): Poiseuille flow
 between plates, whose pressure loss 12 v (mu_1 (h - b) + mu_0 (t - h)) / w^2 is that of the liquid
 (phase 1) from the plates' lower end b to the meniscus h and of the other phase (phase 0) from
-there to the plates' upper end t, driven by rho |F| (dh_Jurin - dh) and accelerating the gap's
+there to the plates' upper end t, driven by rho |F| (dh_rest - dh) and accelerating the gap's
 column, rho (t - b) dv/dt (one density for both phases); the outer level falls by w / W of the
 inner rise. Integrated from the first frame at rest. It leaves out the flow into the gap from
 below and out of it above, and the contact lines' own resistance. Its difference dh over time
@@ -79,6 +86,34 @@ def heights(x, y, phi, dx, inner, outer):
     return meniscus(columns[inner]), meniscus(columns[outer])
 
 
+def meniscus_middle(gap, capillary_length_sq, theta):
+    """The height over the level of equal pressures of a 2D meniscus's middle in a gap (lengths in one
+    unit): u'' = (u / l_c^2) (1 + u'^2)^(3/2) from the middle (u' = 0) to a wall, where u' must be
+    cot(theta). Shooting on the middle's height, RK4 and bisection."""
+    target = abs(1 / math.tan(theta))
+
+    def slope_at_wall(middle):
+        steps = 2000
+        h, u, du = gap / 2 / steps, middle, 0.0
+        f = lambda u, du: (du, u / capillary_length_sq * (1 + du * du) ** 1.5)
+        for _ in range(steps):
+            k1 = f(u, du)
+            k2 = f(u + h / 2 * k1[0], du + h / 2 * k1[1])
+            k3 = f(u + h / 2 * k2[0], du + h / 2 * k2[1])
+            k4 = f(u + h * k3[0], du + h * k3[1])
+            u += h / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
+            du += h / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
+            if du > 1e3 * (1 + target):
+                return math.inf
+        return du
+
+    low, high = 0.0, 2 * capillary_length_sq * target / gap  # the arc's middle: gravity only lowers it
+    for _ in range(100):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if slope_at_wall(middle) < target else (low, middle)
+    return math.copysign(0.5 * (low + high), math.cos(theta))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run")
@@ -95,9 +130,12 @@ def main():
     w, W = (b0 - a1), n - (b1 - a0)
     inner, outer = (a1 + b0) // 2, ((b1 + a0 + n) // 2) % n
     jurin = 2 * sigma * math.cos(theta) / (rho * force) * (1 / (w * dx) - 1 / (W * dx)) / dx
+    capillary_length_sq = sigma / (rho * force) / dx**2  # in spacings^2
+    rest = meniscus_middle(w, capillary_length_sq, theta) - meniscus_middle(W, capillary_length_sq, theta)
     mu_liquid = rho * float(parameter(root, "Phases/Phase 1/Kinematic Viscosity"))
     mu_other = rho * float(parameter(root, "Fluid/Kinematic Viscosity"))
-    result = {"gap": w, "outer_gap": W, "jurin_difference": jurin, "rows": []}
+    result = {"gap": w, "outer_gap": W, "jurin_difference": jurin, "meniscus_difference": rest,
+              "capillary_length": math.sqrt(capillary_length_sq), "rows": []}
     if args.fields:
         import h5py
         for name in sorted(glob.glob(os.path.join(args.run, "fields_*.h5")),
@@ -116,7 +154,7 @@ def main():
             while t < row["time"] - 1e-12:
                 step = min(1e-6, row["time"] - t)
                 outer = first["outer"] - (w / W) * (h - first["inner"])
-                drive = rho * force * (jurin - (h - outer)) * dx
+                drive = rho * force * (rest - (h - outer)) * dx
                 loss = 12 * v * (mu_liquid * (h - bottom) + mu_other * (top - h)) * dx / (w * dx) ** 2
                 v += step * (drive - loss) / (rho * (top - bottom) * dx)
                 h += step * v / dx
@@ -144,7 +182,8 @@ def main():
     if args.json:
         print(json.dumps(result))
         return
-    print(f"gaps {w} and {W} spacings; Jurin's difference {jurin:.2f} spacings")
+    print(f"gaps {w} and {W} spacings, capillary length {math.sqrt(capillary_length_sq):.2f}; Jurin's difference "
+          f"{jurin:.2f} spacings (arcs), the menisci's with gravity {rest:.2f}")
     for r in result["rows"]:
         when = "end" if r["time"] is None else f"t = {r['time']:.4g} s"
         d = r["inner"] - r["outer"]
@@ -153,7 +192,8 @@ def main():
         if "time_over_law" in r:
             washburn += f", time over the law's to the same fraction of rest {r['time_over_law']:.2f}"
         print(f"{when}: inner {r['inner']:.2f}, outer {r['outer']:.2f}, difference {d:.2f} "
-              f"({100 * (d / jurin - 1):+.1f} % of Jurin's){washburn}")
+              f"({100 * (d / jurin - 1):+.1f} % of Jurin's arcs, {100 * (d / rest - 1):+.1f} % of the menisci's)"
+              f"{washburn}")
 
 
 if __name__ == "__main__":

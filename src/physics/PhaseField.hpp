@@ -257,13 +257,6 @@ class LatticePhaseField {
     });
   }
 
-  // The layer's distance s = epsilon ln(phi / (1 - phi)) of a value, phi
-  // held 1e-12 inside (0, 1): the bulk's s is flat, and so its normal zero.
-  double layer_distance(double phi) const {
-    const double p = std::clamp(phi, kLeastLayer, 1 - kLeastLayer);
-    return settings_.width * std::log(p / (1 - p));
-  }
-
   // phi on the padded lattice for pressure_gradient(): the fluid points'
   // own (periodic copies in the padding), and at each solid point or point
   // beyond a wall that a fluid point's stencil reaches, the Shepard mean of
@@ -306,6 +299,8 @@ class LatticePhaseField {
     return solid_cos_[static_cast<std::size_t>(kSolidPoint - b)];
   }
 
+  // phi is held this far inside (0, 1) for the layer's distance s: the
+  // bulk's s is then flat, and so its normal zero.
   static constexpr double kLeastLayer = 1e-12;
 
   // The central differences of a field at fluid point a, value(b) the
@@ -437,7 +432,12 @@ class LatticePhaseField {
     std::vector<Vec<Dim>>& n = normals_;
     n.resize(phi_.size());
     distance_.resize(phi_.size());
-    for (std::size_t a : fluid_points_) distance_[a] = layer_distance(phi_[a]);
+    odds_.resize(phi_.size());
+    for (std::size_t a : fluid_points_) {
+      const double p = std::clamp(phi_[a], kLeastLayer, 1 - kLeastLayer);
+      odds_[a] = (1 - p) / p;
+      distance_[a] = -settings_.width * std::log(odds_[a]);
+    }
     for (std::size_t a : fluid_points_) {
       const Vec<Dim> g = distance_gradient(a);
       const double norm = std::sqrt(dot(g, g));
@@ -458,8 +458,10 @@ class LatticePhaseField {
   // face: the diffusion and the sharpening, whose phi (1 - phi) is the
   // profile's at the face's distance (the mean of its points' s).
   double allen_cahn_flux(std::size_t a, std::size_t b, int d, const std::vector<Vec<Dim>>& n) const {
-    const double t = std::tanh((distance_[a] + distance_[b]) / (4 * settings_.width));
-    const double layer = 0.25 * (1 - t * t);  // phi (1 - phi) of the profile at the face's s
+    // phi (1 - phi) of the profile at the face's s, r / (1 + r)^2 with r =
+    // exp(-s / epsilon) there: the geometric mean of the points' odds.
+    const double r = std::sqrt(odds_[a] * odds_[b]);
+    const double layer = r / ((1 + r) * (1 + r));
     const double slope = (phi_[b] - phi_[a]) / dx_;
     return -settings_.mobility * (settings_.width * slope - layer * face_normal(n[a], n[b], d));
   }
@@ -485,7 +487,9 @@ class LatticePhaseField {
   // Work arrays of the lattice's size, kept from call to call: made anew
   // each step they cost more than the update (pages mapped and unmapped).
   mutable std::vector<Vec<Dim>> normals_, force_;
-  mutable std::vector<double> distance_;  // s of each fluid point, as normals() last found it
+  // s of each fluid point and its odds (1 - phi) / phi = exp(-s / epsilon),
+  // as normals() last found them.
+  mutable std::vector<double> distance_, odds_;
   std::vector<double> change_;
 };
 
