@@ -107,7 +107,7 @@ def meniscus_middle(gap, capillary_length_sq, theta):
                 return math.inf
         return du
 
-    low, high = 0.0, 2 * capillary_length_sq * target / gap  # the arc's middle: gravity only lowers it
+    low, high = 0.0, 2 * capillary_length_sq * abs(math.cos(theta)) / gap  # the arc's middle: gravity lowers it
     for _ in range(100):
         middle = 0.5 * (low + high)
         low, high = (middle, high) if slope_at_wall(middle) < target else (low, middle)

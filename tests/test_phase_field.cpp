@@ -6,7 +6,9 @@
 // continues a flat layer that meets the wall at the contact angle, and the
 // layer's normal beside the wall makes that angle, each solid's own where
 // solids wet at different angles; a flat layer meeting a wall at 90 degrees
-// feels no force.
+// feels no force; a disc under the update alone stays round; and the
+// surface force's grad phi (the pressure term's operator) of a uniform phi
+// is zero beside walls and grains.
 #include <gtest/gtest.h>
 
 #include <algorithm>
