@@ -129,16 +129,16 @@ TEST(PhaseField, UniformFlowCarriesTheLayer) {
   EXPECT_GT(middle, 0.99);
 }
 
-// Where phi crosses 1/2 between lattice neighbours, the distance of each
-// crossing from (cx, cy): the spread of those distances measures how far a
-// disc is from round.
-std::vector<double> crossing_radii(const LatticePhaseField<2>& f, double cx, double cy) {
+// Where phi crosses 1/2 between lattice neighbours of a lattice `side`
+// points a side, the distance of each crossing from (cx, cy): the spread of
+// those distances measures how far a disc is from round.
+std::vector<double> crossing_radii(const LatticePhaseField<2>& f, long long side, double cx, double cy) {
   std::vector<double> radii;
   for (std::size_t k = 0; k < f.size(); ++k) {
     const auto i = f.point(k);
     for (int d = 0; d < 2; ++d) {
       auto j = i;
-      if (++j[d] >= 64) continue;
+      if (++j[d] >= side) continue;
       const double a = f.values()[k] - 0.5, b = f.values()[f.index(j)] - 0.5;
       if ((a < 0) == (b < 0)) continue;
       double x = i[0] + 0.5, y = i[1] + 0.5;
@@ -156,15 +156,15 @@ std::vector<double> crossing_radii(const LatticePhaseField<2>& f, double cx, dou
 // normals of grad phi the same disc squares towards the axes: its crossings
 // spread over 2.4 spacings, where they spread over 0.19 now.)
 TEST(PhaseField, DiscUnderTheUpdateAloneStaysRound) {
-  auto f = field(64, 64, false, 90, 1.0);
+  const long long side = 64;
+  auto f = field(side, side, false, 90, 1.0);
   const double R = 15;
-  for (std::size_t k = 0; k < f.size(); ++k) {
-    const auto i = f.point(k);
-    f.values()[k] = phase_field_profile(R - std::hypot(i[0] + 0.5 - 32, i[1] + 0.5 - 32), 1.0);
-  }
+  const auto at_rest = set_by_position(f, [&](double x, double y, double& phi, Vec<2>&) {
+    phi = phase_field_profile(R - std::hypot(x - 32, y - 32), 1.0);
+  });
   const double start = f.amount();
-  for (int step = 0; step < 4000; ++step) f.advance(0.2, std::vector<Vec<2>>(f.size(), Vec<2>::zero()));
-  const auto radii = crossing_radii(f, 32, 32);
+  for (int step = 0; step < 4000; ++step) f.advance(0.2, at_rest);
+  const auto radii = crossing_radii(f, side, 32, 32);
   const auto [low, high] = std::minmax_element(radii.begin(), radii.end());
   EXPECT_LT(*high - *low, 0.3);
   EXPECT_NEAR(*low, R, 0.3);
