@@ -219,6 +219,13 @@ class LatticePhaseField {
     const std::vector<Vec<Dim>>& n = normals();
     extrapolate_to_walls();
     for (std::size_t a : fluid_points_) {
+      // Where phi (1 - phi) is below 1e-10 the layer's profile puts every
+      // phi of the stencil within e^(3h / epsilon) times that of 0 or 1: a
+      // force of that order next to the layer's is not summed.
+      if (!(layer_weight(phi_[a]) > 1e-10)) {
+        force[a] = Vec<Dim>::zero();
+        continue;
+      }
       double divergence = 0;
       for (int d = 0; d < Dim; ++d)
         for (int side = 0; side < 2; ++side) {
@@ -230,11 +237,7 @@ class LatticePhaseField {
           divergence += side ? face : -face;
         }
       const double kappa = -divergence / dx_;
-      // Where phi (1 - phi) is below 1e-10 the layer's profile puts every
-      // phi of the stencil within e^(3h / epsilon) times that of 0 or 1: a
-      // force of that order next to the layer's is not summed.
-      force[a] = kappa != 0 && layer_weight(phi_[a]) > 1e-10 ? (sigma * kappa) * pressure_gradient(a)
-                                                               : Vec<Dim>::zero();
+      force[a] = kappa != 0 ? (sigma * kappa) * pressure_gradient(a) : Vec<Dim>::zero();
     }
     return force;
   }
