@@ -318,7 +318,7 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const auto force_steps = phases.get<Array<double>>("Force Steps");
   // What only a moving interface reads, named when it would be ignored.
   std::string moving_only;
-  if (width != 1.0) moving_only = "Interface Width";
+  if (width != 0.75) moving_only = "Interface Width";
   if (mobility != 0) moving_only = "Interface Mobility";
   if (wetting_angle != 90.0) moving_only = "Contact Angle";
   if (!solid_angles.empty()) moving_only = "Contact Angles";

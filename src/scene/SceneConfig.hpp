@@ -190,7 +190,7 @@ struct SceneConfig {
   // Phases/Interface = moving: the phases are a phase field carried by the
   // flow (physics/PhaseField.hpp); fixed (false): each particle keeps its phase.
   bool moving_interface = false;
-  double interface_width = 1.0;     // Phases/Interface Width, in particle spacings
+  double interface_width = 0.75;    // Phases/Interface Width, in particle spacings
   double interface_mobility = 0.0;  // Phases/Interface Mobility (m/s); 0: the rule of Simulation
   double contact_angle = 90.0;      // Phases/Contact Angle (degrees, through phase 0) on every solid
   // Phases/Contact Angles: per Image/Solid Values entry (an image) or per
