@@ -316,11 +316,13 @@ void read_phases(const ParameterList& list, SceneConfig& scene) {
   const double wetting_angle = phases.get<double>("Contact Angle");
   const auto solid_angles = phases.get<Array<double>>("Contact Angles");
   const auto force_steps = phases.get<Array<double>>("Force Steps");
-  // What only a moving interface reads, named when it would be ignored.
+  // What only a moving interface reads, named when it would be ignored:
+  // set to other than its default (the same in io/Parameters.cpp).
+  const SceneConfig defaults;
   std::string moving_only;
-  if (width != 0.75) moving_only = "Interface Width";
-  if (mobility != 0) moving_only = "Interface Mobility";
-  if (wetting_angle != 90.0) moving_only = "Contact Angle";
+  if (width != defaults.interface_width) moving_only = "Interface Width";
+  if (mobility != defaults.interface_mobility) moving_only = "Interface Mobility";
+  if (wetting_angle != defaults.contact_angle) moving_only = "Contact Angle";
   if (!solid_angles.empty()) moving_only = "Contact Angles";
   if (!force_steps.empty()) moving_only = "Force Steps";
   if (count == 1) {
