@@ -318,6 +318,34 @@ TEST(RigidGrains, ACellRestingOnHeldGrainsIsHydrostatic) {
   }
 }
 
+// Grains set moving are moving walls to the sound-speed rule: a grain pulled
+// at U and turning at omega moves its surface at up to |U| + |omega| r, and
+// the speed of sound follows it as it follows a channel wall's speed.
+TEST(RigidGrains, MovingGrainsSetTheVelocityScale) {
+  SceneConfig scene = free_grains(30);
+  scene.velocity_scale = 0;
+  scene.sound_speed = 0;  // the rule's, not the test box's
+  scene.prescribed_grains = {0};
+  scene.grain_velocity = {0.02, -0.01, 0.0, 0.0};
+  scene.grain_spin = {0.5, 0.0};
+  const double surface = std::hypot(0.02, -0.01) + 0.5 * 0.15;  // grain 0: r = 0.15
+  EXPECT_DOUBLE_EQ(scene.fastest_grain_surface(), surface);
+  const DerivedParameters derived = derive_parameters(scene);
+  EXPECT_GE(derived.velocity_scale, surface);
+  // Started at once, it compresses the fluid ahead by V / c: at most half the checked limit.
+  EXPECT_LE(surface / derived.sound_speed, 0.5 * scene.density_variation_limit * (1 + 1e-12));
+  // Held grains stay at rest, whatever the start velocity says of all grains.
+  scene.prescribed_grains = {};
+  scene.held_grains = {0, 1};
+  scene.grain_velocity = {0.02, -0.01};
+  scene.grain_spin = {0.5};
+  EXPECT_EQ(scene.fastest_grain_surface(), 0.0);
+  // Fixed grains are no moving walls.
+  scene.held_grains = {};
+  scene.grain_motion = GrainMotion::Fixed;
+  EXPECT_EQ(scene.fastest_grain_surface(), 0.0);
+}
+
 // Grains/Prescribed with Initial Velocity and Spin: the prescribed grain
 // keeps its velocity and spin whatever the fluid does, its centre moving
 // and its particles turning as set; the other is free.

@@ -57,12 +57,14 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
   for (const auto& phase : scene.phases)
     nu = std::max(nu, phase.kinematic_viscosity), nu_least = std::min(nu_least, phase.kinematic_viscosity);
   p.length_scale = scene.length_scale > 0 ? scene.length_scale : largest_side;
-  // Without a given velocity scale: the larger of the moving walls' speed and
-  // the peak of plane Poiseuille flow across the length scale, F L^2 / (8 nu),
-  // an upper bound for flow driven through pores narrower than L.
+  // Without a given velocity scale: the larger of the moving walls' speed
+  // (channel walls and the surfaces of grains set moving) and the peak of
+  // plane Poiseuille flow across the length scale, F L^2 / (8 nu), an upper
+  // bound for flow driven through pores narrower than L.
   p.velocity_scale = scene.velocity_scale;
   if (p.velocity_scale <= 0) {
-    const double wall = std::max(std::abs(scene.lower_wall_velocity), std::abs(scene.upper_wall_velocity));
+    const double wall = std::max({std::abs(scene.lower_wall_velocity), std::abs(scene.upper_wall_velocity),
+                                  scene.fastest_grain_surface()});
     const double poiseuille =
         nu_least > 0 ? force_norm * p.length_scale * p.length_scale / (8.0 * nu_least) : 0.0;
     p.velocity_scale = std::max(wall, poiseuille);
@@ -77,6 +79,12 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
           "cannot choose a speed of sound: the scene has no flow scale (no body force, no moving wall, no "
           "Fluid/Velocity Scale); set Fluid/Velocity Scale or Fluid/Sound Speed");
     p.sound_speed = std::sqrt(c_sq);
+    // A grain set moving at once pushes the fluid ahead of it like a piston,
+    // compressing it by V / c (a water hammer) where a steady flow at V
+    // compresses it by (V / c)^2: c keeps that to half the density-variation
+    // limit the run is checked against.
+    const double piston = scene.fastest_grain_surface();
+    if (piston > 0) p.sound_speed = std::max(p.sound_speed, 2.0 * piston / scene.density_variation_limit);
     // Fixed particles always raise it: their steady state does not depend on
     // c (to O(Mach^2)), but the slowest way to it, pressure differences
     // diffusing through the pores, runs as c^2 (docs/method.md).

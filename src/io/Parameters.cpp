@@ -81,7 +81,8 @@ RCP<ParameterList> make_valid_parameters() {
           "Fixed particles (Discretization/Particle Motion) always raise c unless Sound Speed is given: their "
           "steady state does not depend on it, and it settles sooner.");
     s.set("Velocity Scale", 0.0,
-          "V for the sound-speed rule (m/s). 0: the larger of the wall speeds and |F| L^2/(8 nu).",
+          "V for the sound-speed rule (m/s). 0: the largest of the wall speeds, the speeds of moving grains' "
+          "surfaces at the start (Grains/Initial Velocity and Initial Spin) and |F| L^2/(8 nu).",
           real_in(0.0, kHuge));
     s.set("Background Pressure", 0.0,
           "Fraction beta of c^2 rho0 kept in the momentum equation, which sees p - (1 - beta) c^2 rho0. "
