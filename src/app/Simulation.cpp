@@ -85,6 +85,14 @@ DerivedParameters derive_parameters(const SceneConfig& scene) {
     // limit the run is checked against.
     const double piston = scene.fastest_grain_surface();
     if (piston > 0) p.sound_speed = std::max(p.sound_speed, 2.0 * piston / scene.density_variation_limit);
+    // Surface tension holds a pressure jump of sigma kappa across the
+    // interface, up to (Dim - 1) sigma / h where it bends as sharply as the
+    // kernel resolves (a drop as small as it can be, a meniscus in a narrow
+    // throat): the delta rule for that pressure (the phases share rho0).
+    if (scene.surface_tension > 0) {
+      const double laplace = (dim - 1) * scene.surface_tension / p.smoothing_length;
+      p.sound_speed = std::max(p.sound_speed, std::sqrt(laplace / (scene.density * scene.density_variation)));
+    }
     // Fixed particles always raise it: their steady state does not depend on
     // c (to O(Mach^2)), but the slowest way to it, pressure differences
     // diffusing through the pores, runs as c^2 (docs/method.md).
