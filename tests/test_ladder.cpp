@@ -53,6 +53,22 @@ SceneConfig square_array_ladder() {
   return scene_of("square_array/square_array_c50.xml", {"Convergence/Levels=3"});
 }
 
+// No flow crosses a channel's walls: the tensor drives the axes the cell is
+// periodic in, not the walls' (driven there, k is zero by construction and
+// neither the march nor the solve could call it steady or settled).
+TEST(Ladder, TensorDrivesTheAxesTheCellIsOpenAlong) {
+  auto channel = scene_of("poiseuille.xml", {"Permeability/Tensor=true"});
+  auto stages = plan_run(channel);
+  ASSERT_EQ(stages.size(), 1u);
+  EXPECT_EQ(stages[0].drive_axis, 0);
+  auto box = scene_of("3d/simple_cubic.xml", {"Permeability/Tensor=true", "Walls/Type=channel",
+                                              "Domain/Periodic={1, 0, 1}"});
+  stages = plan_run(box);
+  ASSERT_EQ(stages.size(), 2u);
+  EXPECT_EQ(stages[0].drive_axis, 0);
+  EXPECT_EQ(stages[1].drive_axis, 2);
+}
+
 TEST(Ladder, PlansLevelsCoarseToFineAxisByAxis) {
   auto scene = square_array_ladder();
   scene.permeability_tensor = true;

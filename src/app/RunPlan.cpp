@@ -44,8 +44,10 @@ std::vector<Stage> plan_run(const SceneConfig& scene) {
   const auto spacings = level_spacings(scene);
   const int levels = static_cast<int>(spacings.size());
   std::vector<int> axes;
-  if (scene.permeability_tensor)
-    for (int d = 0; d < scene.dimension; ++d) axes.push_back(d);
+  if (scene.permeability_tensor)  // each axis the cell is open along: no flow crosses the channel's walls
+    for (int d = 0; d < scene.dimension; ++d) {
+      if (scene.periodic[d]) axes.push_back(d);
+    }
   else
     axes.push_back(-1);
   std::vector<Stage> stages;

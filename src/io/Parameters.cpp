@@ -432,8 +432,9 @@ RCP<ParameterList> make_valid_parameters() {
     auto& s = list->sublist("Permeability", false,
                             "Darcy permeability k_ij = nu <u_i> / F_j, <u> the superficial velocity.");
     s.set("Tensor", false,
-          "Drive each direction in turn with |Fluid/Body Force| and report the full tensor; otherwise drive "
-          "along the body force (which must lie along one axis) and report that column.");
+          "Drive each direction the cell is periodic in with |Fluid/Body Force|, in turn, and report the full "
+          "tensor (no flow crosses a channel's walls: their axis is not driven); otherwise drive along the body "
+          "force (which must lie along one axis) and report that column.");
     s.set("Steady Tolerance", 0.0,
           "Stop once k is steady to this relative tolerance: its change over the last span and the change "
           "still to come, predicted from the exponential approach of three values a span apart, are both "

@@ -26,10 +26,18 @@ namespace {
 using Teuchos::Array;
 using Teuchos::ParameterList;
 
+// "a", "a and b", "a, b and c".
+std::string list_of(const std::vector<std::string>& names) {
+  std::string text;
+  for (size_t k = 0; k < names.size(); ++k) text += (k ? (k + 1 == names.size() ? " and " : ", ") : "") + names[k];
+  return text;
+}
+
 // What the scene asks to measure must be measurable: k needs a body force,
-// and along one axis unless Permeability/Tensor drives each axis in turn.
-// Asked of a scene that cannot give it, it used to be skipped without a
-// word (no k, no history, a steady tolerance ignored, a ladder of nothing).
+// along one axis unless Permeability/Tensor drives each axis in turn, and an
+// axis the cell is open along. Asked of a scene that cannot give it, it used
+// to be skipped without a word (no k, no history, a steady tolerance
+// ignored, a ladder of nothing).
 void check_measurement(const SceneConfig& scene) {
   int components = 0;
   double magnitude = 0;
@@ -51,17 +59,32 @@ void check_measurement(const SceneConfig& scene) {
         << magnitude << " and measure the whole tensor";
     throw ParameterError(msg.str());
   }
-  if (components > 0) return;
   std::vector<std::string> asked;
+  if (components == 1 && !scene.permeability_tensor) {
+    // Walls that close the cell along the driven axis pass no flow along it:
+    // k there is zero by construction, and a run measuring it would chase a
+    // relative change of nothing (a march never steady, a solve never settled).
+    int axis = 0;
+    while (scene.body_force[axis] == 0) ++axis;
+    if (scene.periodic[axis]) return;
+    if (scene.steady_tolerance > 0) asked.push_back("Permeability/Steady Tolerance");
+    if (scene.linearity_check) asked.push_back("Permeability/Linearity Check");
+    if (scene.convergence_levels > 1) asked.push_back("Convergence/Levels");
+    if (scene.steady_solver) asked.push_back("Solver/Method = steady");
+    if (asked.empty()) return;
+    throw ParameterError(std::string("Fluid/Body Force = ") + force.str() + " drives along " + "xyz"[axis] +
+                         ", where the channel's walls close the cell: no flow crosses them, so k along " +
+                         "xyz"[axis] + " is zero and " + list_of(asked) + " cannot measure it. Drive along an axis " +
+                         "the cell is periodic in");
+  }
+  if (components > 0) return;
   if (scene.permeability_tensor) asked.push_back("Permeability/Tensor");
   if (scene.steady_tolerance > 0) asked.push_back("Permeability/Steady Tolerance");
   if (scene.steady_window > 0) asked.push_back("Permeability/Steady Window");
   if (scene.linearity_check) asked.push_back("Permeability/Linearity Check");
   if (scene.convergence_levels > 1) asked.push_back("Convergence/Levels");
   if (asked.empty()) return;
-  std::string names;
-  for (size_t k = 0; k < asked.size(); ++k) names += (k ? (k + 1 == asked.size() ? " and " : ", ") : "") + asked[k];
-  throw ParameterError(names + (asked.size() > 1 ? " ask" : " asks") +
+  throw ParameterError(list_of(asked) + (asked.size() > 1 ? " ask" : " asks") +
                        " for the permeability, which a body force measures, and Fluid/Body Force is zero here: give "
                        "one (along the axis to measure), or leave " +
                        (asked.size() > 1 ? "them" : "it") + " at the default");
@@ -748,11 +771,11 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.refinement_ratio = convergence.get<double>("Refinement Ratio");
   scene.steady_tolerance = permeability.get<double>("Steady Tolerance");
   scene.steady_window = permeability.get<double>("Steady Window");
+  const auto& solver = list.sublist("Solver");
+  scene.steady_solver = solver.get<std::string>("Method") == "steady";
 
   check_measurement(scene);
 
-  const auto& solver = list.sublist("Solver");
-  scene.steady_solver = solver.get<std::string>("Method") == "steady";
   scene.solver.tolerance = solver.get<double>("Tolerance");
   scene.solver.permeability_tolerance = solver.get<double>("Permeability Tolerance");
   scene.solver.linear_tolerance = solver.get<double>("Linear Tolerance");

@@ -22,6 +22,7 @@ import time
 CLASS, POREESPH, WORK, MPIEXEC = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
 HERE = os.path.dirname(os.path.abspath(__file__))
 TINY = os.path.join(HERE, "tiny.xml")
+INPUT = os.path.join(os.path.dirname(os.path.dirname(HERE)), "input")
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1", OMP_NUM_THREADS="1")
 failures = []
@@ -1165,6 +1166,17 @@ def class_15_scene_requests():
              [TINY, "--output", out] + sets("Fluid/Body Force={0, 0}", "Fluid/Velocity Scale=0.01", GRAIN, *settings), 2,
              rf"{re.escape(asked)} for the permeability, which a body force measures, and Fluid/Body Force is zero",
              absent(out))
+    channel = os.path.join(INPUT, "poiseuille.xml")
+    for settings, asked in [(["Permeability/Steady Tolerance=0.0001"], "Permeability/Steady Tolerance"),
+                            (["Solver/Method=steady"], "Solver/Method = steady")]:
+        case(f"a force across a channel's walls with {', '.join(settings)} is refused: no flow crosses them",
+             [channel, "--output", out] + sets("Fluid/Body Force={0, 1e-8}", *settings), 2,
+             rf"drives along y, where the channel's walls close the cell: no flow crosses them, so k along y is "
+             rf"zero and {re.escape(asked)} cannot measure it", absent(out))
+    walled = fresh("walled-tensor")
+    case("Permeability/Tensor in a channel drives along the walls only",
+         [channel, "--output", walled] + sets("Permeability/Tensor=true", "Solver/Method=steady"), 0, r"converged",
+         lambda: "" if set(summary(walled)["permeability"]) == {"kxx", "kyx"} else "a column across the walls")
     case("Diagnostics/Profile Sample Times without a channel is refused",
          [TINY, "--output", out] + sets("Diagnostics/Profile Sample Times={1}"), 2,
          r"Profile Sample Times compares a channel's velocity profile .* no channel", absent(out))
