@@ -37,7 +37,8 @@ using testing::run_input;
 
 // Without Fluid/Sound Speed, surface tension's pressure sets the speed of
 // sound: the Laplace pressure of the sharpest bend the kernel resolves,
-// (Dim - 1) sigma / h, compresses the fluid by at most Fluid/Density Variation. (At the flow's scale alone a drop of 1e-6 N/m in the sphere
+// (Dim - 1) sigma / h, compresses the fluid by at most Fluid/Density
+// Variation. (At the flow's scale alone a drop of 1e-6 N/m in the sphere
 // pack's image compressed a particle by 10 % within 15 steps.)
 TEST(TwoPhase, SurfaceTensionSetsTheSpeedOfSound) {
   for (int dim : {2, 3}) {

@@ -140,13 +140,13 @@ class RigidGrains {
     for (const Grain& g : scene.grains) {
       Body b;
       const int index = static_cast<int>(bodies_.size());
-      auto named = [&](const std::vector<int>& list) { return std::find(list.begin(), list.end(), index) != list.end(); };
-      const bool held = named(scene.held_grains);
-      b.prescribed = held || named(scene.prescribed_grains);
+      const bool held = scene.held(index);
+      b.prescribed = held || std::find(scene.prescribed_grains.begin(), scene.prescribed_grains.end(), index) !=
+                                 scene.prescribed_grains.end();
       for (int d = 0; d < Dim; ++d) b.centre[d] = g.centre[d];
       // Grains/Initial Velocity and Spin: one set for every grain, or one a grain.
       auto start = [&](const std::vector<double>& values, int per_grain, double* out) {
-        const size_t first = values.size() == static_cast<size_t>(per_grain) ? 0 : index * per_grain;
+        const size_t first = SceneConfig::first_start_value(values, index, per_grain);
         if (!values.empty() && !held)
           for (int k = 0; k < per_grain; ++k) out[k] = values[first + k];
       };

@@ -163,22 +163,29 @@ struct SceneConfig {
   bool moving_grains() const { return grain_motion != GrainMotion::Fixed && !grains.empty(); }
   // A grain's solid density: its own from the grain file, or Grains/Density.
   double density_of(const Grain& g) const { return g.density > 0 ? g.density : grain_density; }
+  bool held(std::size_t g) const {
+    return std::find(held_grains.begin(), held_grains.end(), static_cast<int>(g)) != held_grains.end();
+  }
+  // Where grain g's start values begin in Grains/Initial Velocity or Initial
+  // Spin (`per_grain` values a grain): one set for every grain, or one a grain.
+  static std::size_t first_start_value(const std::vector<double>& values, std::size_t g, std::size_t per_grain) {
+    return values.size() == per_grain ? 0 : g * per_grain;
+  }
   // The fastest point of a moving grain's surface at the start, |U| + |omega| r
   // from Grains/Initial Velocity and Initial Spin (held grains stay at rest):
   // a moving wall, for the sound-speed rule. 0 while the grains hold still.
   double fastest_grain_surface() const {
     if (!moving_grains()) return 0.0;
     const std::size_t dim = static_cast<std::size_t>(dimension), spins = dimension == 2 ? 1 : 3;
-    // The length of grain g's vector of `per_grain` values: one set for every grain, or one a grain.
     auto length_of = [](const std::vector<double>& values, std::size_t g, std::size_t per_grain) {
-      const std::size_t first = values.size() == per_grain ? 0 : g * per_grain;
+      const std::size_t first = first_start_value(values, g, per_grain);
       double sum = 0;
       for (std::size_t k = first; k < first + per_grain && k < values.size(); ++k) sum += values[k] * values[k];
       return std::sqrt(sum);
     };
     double fastest = 0;
     for (std::size_t g = 0; g < grains.size(); ++g) {
-      if (std::find(held_grains.begin(), held_grains.end(), static_cast<int>(g)) != held_grains.end()) continue;
+      if (held(g)) continue;
       const double speed = length_of(grain_velocity, g, dim) + length_of(grain_spin, g, spins) * grains[g].radius;
       fastest = std::max(fastest, speed);
     }
