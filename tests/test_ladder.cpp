@@ -436,5 +436,47 @@ TEST(Ladder, TheSummaryWarnsOfEachUnsteadyStage) {
   for (const auto& w : without_test.warnings) EXPECT_EQ(w.find("k was not steady"), std::string::npos) << w;
 }
 
+// Darcy's k is the creeping-flow limit: a run whose Reynolds number passes
+// 1 with inertia in its equations is told that k is below it, unless the
+// Darcy check (a half-force record) measured by how much; a steady solve
+// that did not converge in a flow fast at the particle scale names the
+// convection (problem III at 0.01 L converged at 1.3 and not at 2.8).
+TEST(Ladder, FastFlowsAreNamedInTheWarnings) {
+  auto record = [](double speed, bool half_force, bool solved, bool converged) {
+    StageRecord r;
+    r.level = 0, r.axis = 0, r.half_force = half_force, r.spacing = 1e-3;
+    r.has_permeability = true, r.steady = converged;
+    r.u[0] = speed, r.k[0] = 1e-9;
+    r.steady_solve = solved, r.solver_converged = converged, r.nonlinear_iterations = 10;
+    return r;
+  };
+  SummaryScales scales;
+  scales.inertia = true;
+  scales.particle_reynolds_scale = 1.0 / (0.5 * 1e-6);             // porosity 0.5, nu 1e-6
+  scales.reynolds_scale = 0.02 * scales.particle_reynolds_scale;  // grains 0.02 m across
+  auto warnings_of = [&](const std::vector<StageRecord>& records, const SummaryScales& given, const char* part) {
+    RunReport report;
+    summarise_stages(records, 2, 1, false, report, given);
+    int n = 0;
+    for (const auto& w : report.warnings) n += w.find(part) != std::string::npos;
+    return n;
+  };
+  const char* inertia = "inertia lowers k below the creeping-flow (Darcy) permeability";
+  // Re = 1e-4 / 0.5 * 0.02 / 1e-6 = 4; 2e-5 gives 0.8.
+  EXPECT_EQ(warnings_of({record(1e-4, false, false, true)}, scales, inertia), 1);
+  EXPECT_EQ(warnings_of({record(2e-5, false, false, true)}, scales, inertia), 0);
+  EXPECT_EQ(warnings_of({record(1e-4, false, false, true), record(5e-5, true, false, true)}, scales, inertia), 0);
+  SummaryScales creeping = scales;
+  creeping.inertia = false;
+  EXPECT_EQ(warnings_of({record(1e-4, false, false, true)}, creeping, inertia), 0);
+
+  // Mean pore speed dx / nu: 2e-3 / 0.5 * 1e-3 / 1e-6 = 4; 5e-4 gives 1.
+  const char* convection = "where convection outweighs viscosity from one particle to the next";
+  EXPECT_EQ(warnings_of({record(2e-3, false, true, false)}, scales, convection), 1);
+  EXPECT_EQ(warnings_of({record(5e-4, false, true, false)}, scales, convection), 0);
+  EXPECT_EQ(warnings_of({record(2e-3, false, true, true)}, scales, convection), 0);
+  EXPECT_EQ(warnings_of({record(2e-3, false, true, false)}, creeping, convection), 0);
+}
+
 }  // namespace
 }  // namespace poresph

@@ -92,21 +92,24 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   }
   const StageContext context{options, claim_output, in_place, report.porosity};
   RunReport summarised;  // the report with the stages' summary: what summary.json says and run() returns
-  // Mean grain diameter / (porosity nu): the Reynolds number per unit of superficial speed.
-  double reynolds_scale = 0;
-  if (!scene.grains.empty() && scene.kinematic_viscosity > 0) {
-    double diameter = 0;
+  SummaryScales scales;
+  if (scene.kinematic_viscosity > 0 && report.porosity > 0) {
+    scales.particle_reynolds_scale = 1.0 / (report.porosity * scene.kinematic_viscosity);
+    double diameter = 0;  // the mean grain's
     for (const auto& g : scene.grains) diameter += 2 * g.radius / scene.grains.size();
-    reynolds_scale = diameter / report.porosity / scene.kinematic_viscosity;
+    scales.reynolds_scale = diameter * scales.particle_reynolds_scale;
   }
+  scales.inertia = scene.convection || scene.particle_motion != ParticleMotion::Fixed;
+  scales.max_inner_iterations = scene.solver.max_inner_iterations;
+  scales.raised_inner_iterations = scene.solver.raised_inner_iterations;
+  scales.solver_tolerance = scene.solver.tolerance;
   auto write_summary = [&]() {
     report.particle_steps_per_second =
         report.wall_seconds > 0
             ? (report.fluid_particles + report.boundary_particles) * report.timed_steps / report.wall_seconds
             : 0.0;
     summarised = report;
-    summarise_stages(records, Dim, stages.front().levels, scene.steady_tolerance > 0, summarised, reynolds_scale,
-                     scene.solver.max_inner_iterations, scene.solver.raised_inner_iterations, scene.solver.tolerance);
+    summarise_stages(records, Dim, stages.front().levels, scene.steady_tolerance > 0, summarised, scales);
     if (Communicator().rank() == 0) {
       write_summary_file(options.output_dir + "/summary.json", summarised.to_json().str() + "\n");
       if (summarised.drainage.placed)

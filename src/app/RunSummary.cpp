@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,19 @@ namespace {
 constexpr double kNegligibleComponent = 1e-6;
 // Above this relative change at half the force, the flow is not in Darcy's regime.
 constexpr double kDarcyLinearityLimit = 0.01;
+// Above this Reynolds number (mean grain diameter) inertia lowers k below
+// the creeping-flow value by more than the method's error: 0.85 % at 2.2 in
+// a square array of solid fraction 0.16, 17 % at 34 in problem III
+// (docs/validation.md, "Navier-Stokes reference"; docs/steady_solver.md).
+constexpr double kDarcyReynolds = 1.0;
+// Above this particle-scale Reynolds number (mean pore speed dx / nu)
+// convection outweighs viscosity from one particle to the next, where the
+// steady solver's preconditioner, built on the viscous and pressure terms,
+// falls short: problem III at 0.01 L converged at 1.3 and not at 2.8
+// (docs/steady_solver.md, "Inertia").
+constexpr double kConvectiveParticleReynolds = 2.0;
+
+double speed_of(const StageRecord& r) { return std::sqrt(r.u[0] * r.u[0] + r.u[1] * r.u[1] + r.u[2] * r.u[2]); }
 
 // Which stage a warning is about.
 std::string stage_name(const StageRecord& r, int levels, bool tensor) {
@@ -38,12 +52,14 @@ bool tensor_records(const std::vector<StageRecord>& records) {
 // narrow passages of an image their result is then too rough for the outer
 // solve to use (docs/steady_solver.md, "What fails on a blobs image"), and
 // a higher cap is what helped there. 0: the cap is not known. A solve
-// whose residual met Solver/Tolerance (tolerance; 0: not known) stopped
-// because k had not settled: its last Newton step moved k by
-// r.relative_change, more than Solver/Permeability Tolerance.
-std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, int max_inner_iterations,
-                                int raised_inner_iterations, double tolerance) {
-  char text[1200];
+// whose residual met Solver/Tolerance (0: not known) stopped because k had
+// not settled: its last Newton step moved k by r.relative_change, more than
+// Solver/Permeability Tolerance. A fast flow is named as the likely cause
+// where convection outweighs viscosity at the particle scale.
+std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, const SummaryScales& scales) {
+  const int max_inner_iterations = scales.max_inner_iterations;
+  const double tolerance = scales.solver_tolerance;
+  char text[1600];
   int n = std::snprintf(text, sizeof text,
                         "the steady solve of %s did not converge: relative residual %.3g after %lld Newton and %lld "
                         "linear iterations; k is that of its last state, which the checkpoint keeps (raise Solver/Max "
@@ -65,7 +81,16 @@ std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, i
                   "; its inner solves took %.0f iterations a linear iteration, near the cap of its two DG solves, "
                   "Solver/Max Inner Iterations = %d (raised when the solve stalls, at most to Solver/Raised Inner "
                   "Iterations = %d): raising them may help (docs/steady_solver.md, \"What fails on a blobs image\")",
-                  inner_per_linear, max_inner_iterations, std::max(raised_inner_iterations, max_inner_iterations));
+                  inner_per_linear, max_inner_iterations,
+                  std::max(scales.raised_inner_iterations, max_inner_iterations));
+  n = static_cast<int>(std::strlen(text));
+  const double particle_reynolds = speed_of(r) * r.spacing * scales.particle_reynolds_scale;
+  if (scales.inertia && particle_reynolds > kConvectiveParticleReynolds && n < static_cast<int>(sizeof text))
+    std::snprintf(text + n, sizeof text - n,
+                  "; the mean pore speed times the particle spacing over nu is %.2g: where convection outweighs "
+                  "viscosity from one particle to the next (above about %.0f) the solver's preconditioner falls "
+                  "short, and Solver/Method = explicit marches instead (docs/steady_solver.md, \"Inertia\")",
+                  particle_reynolds, kConvectiveParticleReynolds);
   return text;
 }
 
@@ -94,8 +119,7 @@ std::string unsteady_warning(const StageRecord& r, int levels, bool tensor) {
 // Darcy check, whether every stage was steady (a warning for each that
 // sought a steady k and did not reach it).
 void summarise_stages(const std::vector<StageRecord>& records, int dim, int levels, bool steady_sought,
-                      RunReport& report, double reynolds_scale, int max_inner_iterations,
-                      int raised_inner_iterations, double solver_tolerance) {
+                      RunReport& report, const SummaryScales& scales) {
   report.steps = 0, report.simulated_time = 0, report.neighbour_rebuilds = 0;
   for (const auto& r : records) {
     report.steps += r.steps;
@@ -117,8 +141,7 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     solver.solve_seconds += r.solver_solve_seconds;
     solver.bytes_per_particle = std::max(solver.bytes_per_particle, r.solver_bytes_per_particle);
     if (!r.solver_converged)
-      report.warnings.push_back(unconverged_warning(r, levels, tensor_records(records), max_inner_iterations,
-                                                     raised_inner_iterations, solver_tolerance));
+      report.warnings.push_back(unconverged_warning(r, levels, tensor_records(records), scales));
   }
   bool any = false, steady = true;
   const bool tensor = tensor_records(records);
@@ -139,10 +162,24 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     report.has_permeability = report.driven[r.axis] = true;
     for (int i = 0; i < dim; ++i) report.permeability[i][r.axis] = r.k[i];
   }
-  if (report.has_permeability && reynolds_scale > 0) {
+  if (report.has_permeability && scales.reynolds_scale > 0) {
     double speed = 0;
     for (int i = 0; i < dim; ++i) speed += report.superficial_velocity[i] * report.superficial_velocity[i];
-    report.reynolds_number = std::sqrt(speed) * reynolds_scale;
+    report.reynolds_number = std::sqrt(speed) * scales.reynolds_scale;
+  }
+  // Darcy's k is the creeping-flow limit; a run with the Darcy check
+  // measures how far inertia moved k and warns by that measure instead.
+  const bool linearity_checked =
+      std::any_of(records.begin(), records.end(), [](const StageRecord& r) { return r.half_force; });
+  if (scales.inertia && !linearity_checked && report.reynolds_number > kDarcyReynolds) {
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "the Reynolds number (mean pore speed times the mean grain diameter over nu) is %.3g: above "
+                  "about %.0f inertia lowers k below the creeping-flow (Darcy) permeability (docs/validation.md, "
+                  "\"Navier-Stokes reference\"); Permeability/Linearity Check measures by how much, and "
+                  "Fluid/Convection = false gives the creeping-flow k",
+                  report.reynolds_number, kDarcyReynolds);
+    report.warnings.push_back(text);
   }
 
   if (levels > 1) {
