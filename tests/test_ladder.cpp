@@ -478,5 +478,32 @@ TEST(Ladder, FastFlowsAreNamedInTheWarnings) {
   EXPECT_EQ(warnings_of({record(2e-3, false, true, false)}, creeping, convection), 0);
 }
 
+// The Darcy check compares two steady k; where either march had not come to
+// one, a change at half the force is no measure of inertia, and the warning
+// says which k was not steady instead of blaming the flow's regime.
+TEST(Ladder, ALinearityCheckOfUnsteadyKNamesTheUnsteadiness) {
+  auto record = [](bool half_force, bool steady, double k) {
+    StageRecord r;
+    r.axis = 0, r.half_force = half_force, r.has_permeability = true, r.steady = steady, r.k[0] = k;
+    return r;
+  };
+  auto warnings_of = [](const std::vector<StageRecord>& records) {
+    RunReport report;
+    summarise_stages(records, 2, 1, false, report);
+    std::string all;
+    for (const auto& w : report.warnings) all += w + "\n";
+    return all;
+  };
+  const auto steady = warnings_of({record(false, true, 1.0), record(true, true, 1.05)});
+  EXPECT_NE(steady.find("kxx changes by +5.00 % at half the body force: the flow is not in the Darcy regime"),
+            std::string::npos)
+      << steady;
+  const auto neither = warnings_of({record(false, false, 1.0), record(true, false, 1.05)});
+  EXPECT_NE(neither.find("but k was not steady at either force"), std::string::npos) << neither;
+  EXPECT_EQ(neither.find("Darcy regime"), std::string::npos) << neither;
+  const auto half = warnings_of({record(false, true, 1.0), record(true, false, 1.05)});
+  EXPECT_NE(half.find("but k was not steady at half the force"), std::string::npos) << half;
+}
+
 }  // namespace
 }  // namespace poresph

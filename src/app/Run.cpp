@@ -21,6 +21,7 @@
 #include "app/Simulation.hpp"
 #include "app/StageLoop.hpp"
 #include "core/ExecutionSpaces.hpp"
+#include "core/StopRequest.hpp"
 #include "geometry/Grains.hpp"
 #include "geometry/Solid.hpp"
 #include "io/Checkpoint.hpp"
@@ -29,11 +30,8 @@
 namespace poresph {
 namespace {
 
-// Set by the signal handler, read by the time loop: the first signal counts.
-volatile std::sig_atomic_t stop_signal = 0;
-
 extern "C" void request_stop(int signal_number) {
-  if (stop_signal == 0) stop_signal = signal_number;
+  if (stop_request == 0) stop_request = signal_number;
 }
 
 // drainage.csv: the drainage curve, largest ball first (radius in m; the
@@ -178,9 +176,9 @@ std::string signal_name(int signal_number) {
   }
 }
 
-bool stop_signal_pending() { return stop_signal != 0; }
+bool stop_signal_pending() { return stop_request != 0; }
 
-int stop_signal_received() { return Communicator().max(static_cast<int>(stop_signal)); }
+int stop_signal_received() { return Communicator().max(static_cast<int>(stop_request)); }
 
 JsonObject RunReport::to_json() const {
   JsonObject json;

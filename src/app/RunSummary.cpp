@@ -256,13 +256,24 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
         const double change = negligible ? NAN : (half.k[i] - full.k[i]) / full.k[i];
         report.darcy_linearity[i][j] = change;
         if (std::isfinite(change) && std::abs(change) > kDarcyLinearityLimit) {
-          char text[200];
-          std::snprintf(text, sizeof text,
-                        "k%c%c changes by %+.2f %% at half the body force: the flow is not in the Darcy regime",
-                        "xyz"[i], "xyz"[j], 100 * change);
+          char text[400];
+          std::snprintf(text, sizeof text, "k%c%c changes by %+.2f %% at half the body force", "xyz"[i], "xyz"[j],
+                        100 * change);
           std::string warning = text;
-          if (report.reynolds_number > 0) {  // grains give it a length; an image does not
-            std::snprintf(text, sizeof text, " (Reynolds number %.3g)", report.reynolds_number);
+          if (full.steady && half.steady) {
+            warning += ": the flow is not in the Darcy regime";
+            if (report.reynolds_number > 0) {  // grains give it a length; an image does not
+              std::snprintf(text, sizeof text, " (Reynolds number %.3g)", report.reynolds_number);
+              warning += text;
+            }
+          } else {
+            // Two unsteady k differ by how far each march got, whatever the flow's regime.
+            const char* which = !full.steady && !half.steady ? "at either force" : !full.steady ? "at the full force"
+                                                                                                 : "at half the force";
+            std::snprintf(text, sizeof text,
+                          ", but k was not steady %s: the change may be the march's, not inertia's; a steady k at "
+                          "both forces (Permeability/Steady Tolerance, Run/End Time) tells them apart",
+                          which);
             warning += text;
           }
           report.warnings.push_back(warning);

@@ -152,6 +152,10 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   if (scene.backend == Backend::OpenMP)
     refuse("Run/Backend = openmp, but this build's Kokkos has no OpenMP backend (Debian's is Serial only); "
            "build one with scripts/build-trilinos-openmp.sh and configure with cmake --preset openmp");
+  if (scene.threads > 1)
+    scene.warnings.push_back("Run/Threads = " + std::to_string(scene.threads) +
+                             ", but this build's Kokkos has no OpenMP backend: each process runs one thread "
+                             "(run more processes with mpirun, or build the OpenMP backend: docs/building.md)");
 #endif
   try {
     e.derived = derive_parameters(scene);
@@ -173,14 +177,14 @@ RunEstimate check_scene(SceneConfig& scene, int ranks, const MemoryBudget& budge
   for (size_t l = 0; l < spacings.size(); ++l)
     for (int d = 0; d < D; ++d) {
       const double reach = list_reach(scene) * spacings[l];
-      if (!scene.periodic[d] || scene.cell_size[d] >= reach) continue;
+      if (!scene.periodic[d] || scene.cell_size[d] > reach) continue;
       std::ostringstream level;
       if (spacings.size() > 1) level << " (level " << l + 1 << " of Convergence/Levels " << spacings.size() << ")";
-      refuse("Domain/Cell Size[", d, "] = ", scene.cell_size[d], " is narrower than the kernel's reach at spacing ",
+      refuse("Domain/Cell Size[", d, "] = ", scene.cell_size[d], " is not wider than the kernel's reach at spacing ",
              spacings[l], level.str(), ", ", reach, " (3h",
              scene.particle_motion == ParticleMotion::Fixed ? "" : " + Discretization/Neighbour Skin",
-             ", h = Discretization/Smoothing Length Ratio x spacing): a periodic cell must be at least that wide. "
-             "Use a spacing of at most ", scene.cell_size[d] / list_reach(scene),
+             ", h = Discretization/Smoothing Length Ratio x spacing): a periodic cell must be wider. "
+             "Use a spacing smaller than ", scene.cell_size[d] / list_reach(scene),
              spacings.size() > 1 ? " at the coarsest level (fewer levels, or a smaller ratio)" : "");
     }
   for (size_t l = 0; l + 1 < spacings.size(); ++l) {

@@ -222,7 +222,7 @@ class StageLoop {
     const auto loop_start = Clock::now();
     auto seconds = [&]() { return std::chrono::duration<double>(Clock::now() - loop_start).count(); };
     if (sim.communicator().any(stop_signal_pending())) stop_for(stop_signal_received(), seconds(), first_step);
-    const double force = body_force_magnitude(scene_);
+    const double force = driving_force(scene_, axis_);
     // The Newton step being solved, and where its residual estimate stood a while ago.
     int step_index = -1;
     RecentAnchor anchor;
@@ -246,7 +246,7 @@ class StageLoop {
         n += std::snprintf(text + n, sizeof text - n, "  inner cap %d", s.inner_cap);
       if (s.dg_by_blocks) n += std::snprintf(text + n, sizeof text - n, "  DG by blocks");
       if (s.restart > scene_.solver.restart) n += std::snprintf(text + n, sizeof text - n, "  restart %d", s.restart);
-      if (measures_permeability() && force > 0)
+      if (measures_permeability() && force != 0)
         std::snprintf(text + n, sizeof text - n, "  k = %.5e m^2",
                       scene_.kinematic_viscosity * sim.superficial_velocity()[axis_] / force);
       for (const auto& o : observers_) o->show(text);
@@ -393,8 +393,8 @@ class StageLoop {
       r.solver_solve_seconds = solve.solve_seconds;
       r.solver_bytes_per_particle = solve.bytes_per_particle;
     }
-    const double force = body_force_magnitude(scene_);
-    if (steady_report_ && measures_permeability() && force > 0) {
+    const double force = driving_force(scene_, axis_);
+    if (steady_report_ && measures_permeability() && force != 0) {
       // The solved state's own k: no pseudo-time, so no span to judge it over.
       r.has_permeability = true;
       const auto u = sim.superficial_velocity();

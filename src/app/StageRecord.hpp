@@ -16,7 +16,7 @@ struct StageRecord {
   double simulated_time = 0, wall_seconds = 0;
   bool warm_started = false, steady = false, has_permeability = false;
   double relative_change = 0, remaining_change = 0;
-  double k[3] = {0, 0, 0};  // the driven column, k_i = nu <u_i> / |F|
+  double k[3] = {0, 0, 0};  // the driven column, k_i = nu <u_i> / F (driving_force)
   double u[3] = {0, 0, 0};  // the superficial velocity it was measured from
   long long neighbour_rebuilds = 0;
   // Solver/Method = steady: what the stage's solve did (solver/SteadySolver.hpp).

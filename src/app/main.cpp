@@ -18,6 +18,7 @@
 #include "app/Run.hpp"
 #include "app/RunPlan.hpp"
 #include "app/SceneCheck.hpp"
+#include "core/StopRequest.hpp"
 #include "geometry/Grains.hpp"
 #include "app/Simulation.hpp"
 #include "io/Checkpoint.hpp"
@@ -214,6 +215,7 @@ int main(int argc, char** argv) {
   poresph::SceneConfig scene;
   poresph::OutputDirectoryPlan plan;
   std::string problem;
+  int interrupted = 0;  // a signal that stopped the reading of the scene (a random pack being grown)
   try {
     if (cl.scene_file.empty()) throw poresph::ParameterError(std::string("no scene file given\n") + kUsage);
     parameters = poresph::read_parameters(cl.scene_file, cl.overrides);
@@ -221,10 +223,14 @@ int main(int argc, char** argv) {
                                            std::filesystem::absolute(cl.scene_file).parent_path().string());
     const int on_machine = processes_on_this_machine();
     poresph::check_scene(scene, size, poresph::memory_budget(scene, on_machine));
+  } catch (const poresph::SetupInterrupted& e) {
+    problem = "stopped by " + poresph::signal_name(e.signal_number) + " " + e.what();
+    interrupted = e.signal_number;
   } catch (const std::exception& e) {
     problem = e.what();
   }
   problem = agree(problem);
+  interrupted = poresph::Communicator().max(interrupted);
   if (problem.empty() && !cl.restart_file.empty()) {
     // Every process opens the checkpoint, and they agree on what they found.
     std::string why = poresph::hdf5_file_problem(cl.restart_file);
@@ -275,10 +281,10 @@ int main(int argc, char** argv) {
     }
   }
   if (!problem.empty()) {
-    if (rank == 0) std::cerr << "poresph: error: " << problem << "\n";
+    if (rank == 0) std::cerr << (interrupted ? "poresph: " : "poresph: error: ") << problem << "\n";
     claim.release();
     MPI_Finalize();
-    return 2;
+    return interrupted ? 128 + interrupted : 2;
   }
   std::vector<char*> kokkos_args = cl.kokkos_args;
   std::string threads_arg = "--kokkos-threads=" + std::to_string(scene.threads);

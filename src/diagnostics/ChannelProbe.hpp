@@ -67,11 +67,17 @@ class ChannelProbe : public Observer<Sim> {
 
   // A channel's stage on the scene's own force, marched: a steady solve has
   // no start-up flow to compare (it reports k), and the series is of one
-  // fluid (two: PhaseProbe). Only the finest level's profiles go into the summary.
+  // fluid (two: PhaseProbe), of an empty channel driven along x or by its
+  // walls: grains, an image or a force across the walls make another flow,
+  // and no flow at all gives nothing to compare. Only the finest level's
+  // profiles go into the summary.
   static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
     const SceneConfig& scene = s.scene;
     if (scene.walls != WallType::Channel || s.stage_axis > 0 || scene.steady_solver || scene.has_phases())
       return nullptr;
+    const bool across = scene.body_force[1] != 0 || (scene.dimension == 3 && scene.body_force[2] != 0);
+    const bool driven = scene.body_force[0] != 0 || scene.lower_wall_velocity != 0 || scene.upper_wall_velocity != 0;
+    if (!scene.grains.empty() || scene.image.voxels || across || !driven) return nullptr;
     auto probe = std::make_unique<ChannelProbe>(
         s.sim, ChannelFlow{scene.cell_size[1], scene.kinematic_viscosity, scene.body_force[0],
                            scene.lower_wall_velocity, scene.upper_wall_velocity},

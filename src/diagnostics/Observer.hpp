@@ -96,7 +96,7 @@ struct StageObservations {
   std::vector<ProfileSample> profile_samples;
   // The permeability along the driven axis, as of the last check.
   bool has_permeability = false;
-  double k[3] = {0, 0, 0}, u[3] = {0, 0, 0};  // k_i = nu <u_i> / |F|, and the superficial velocity
+  double k[3] = {0, 0, 0}, u[3] = {0, 0, 0};  // k_i = nu <u_i> / F (driving_force), and the superficial velocity
   bool steady = false;
   double relative_change = 0, remaining_change = 0;
   // Two fluids: each phase at the end of the stage (empty: one fluid, or not measured).

@@ -1,5 +1,5 @@
 #pragma once
-// Darcy's permeability of a run driven along one axis, k_i = nu <u_i> / |F|
+// Darcy's permeability of a run driven along one axis, k_i = nu <u_i> / F
 // with <u> the superficial velocity, sampled at the run's checks: it feeds
 // the steady-state test (diagnostics/SteadyState.hpp) with the flow's own
 // time scale, the longer of the spin-up time k / (nu porosity) and the

@@ -37,16 +37,18 @@ class PermeabilityProbe : public Observer<Sim> {
     }
   }
 
-  // Whether a stage has one: a viscous scene driven along one axis.
+  // Whether a stage has one: a viscous scene driven along one axis that the
+  // cell is open along (periodic): across a channel's walls no flow passes.
   static bool measures(const SceneConfig& scene, int force_axis) {
-    return force_axis >= 0 && scene.kinematic_viscosity > 0;
+    return force_axis >= 0 && scene.periodic[force_axis] && scene.kinematic_viscosity > 0;
   }
   // A warm start excites the slowest acoustic mode: judged over its period.
   static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
     const SceneConfig& scene = s.scene;
     if (!measures(scene, s.force_axis)) return nullptr;
-    PermeabilityMonitor<Dim> monitor(s.force_axis, scene.kinematic_viscosity, body_force_magnitude(scene), s.porosity,
-                                     s.acoustic_time, scene.steady_window, scene.steady_tolerance, s.warm_started);
+    PermeabilityMonitor<Dim> monitor(s.force_axis, scene.kinematic_viscosity, driving_force(scene, s.force_axis),
+                                     s.porosity, s.acoustic_time, scene.steady_window, scene.steady_tolerance,
+                                     s.warm_started);
     return std::make_unique<PermeabilityProbe>(
         s.sim, std::move(monitor), s.force_axis, s.check_interval, scene.steady_tolerance > 0,
         s.output_dir + "/permeability_history" + s.suffix + ".csv", s.continuing,

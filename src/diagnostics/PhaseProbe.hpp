@@ -120,7 +120,7 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
     fluid += s.volume;
     sums.push_back(s);
   }
-  const double force = body_force_magnitude(scene), k = scene.single_phase_permeability;
+  const double force = driving_force(scene, axis), k = scene.single_phase_permeability;
   std::vector<PhaseMeasure> measures;
   for (size_t p = 0; p < sums.size(); ++p) {
     PhaseMeasure m;
@@ -135,7 +135,7 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
     // volume rho |F| on the driven phase, or on each): mu_p / (rho |F|) =
     // nu_p / |F| at one density. With one phase driven, the coupling
     // coefficient k_r,pj of phase p to the driven phase j.
-    m.has_relative_permeability = k > 0 && force > 0;
+    m.has_relative_permeability = k > 0 && force != 0;
     if (m.has_relative_permeability)
       m.relative_permeability = m.superficial_velocity * scene.phases[p].kinematic_viscosity / force / k;
     if (const auto* field = sim.phase_field()) {  // whole, and the same, on every process

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -48,7 +49,7 @@ inline int lattice_points_across(double side, double dx, int d) {
   if (rounded < 1 || std::abs(n - rounded) > 1e-6 * rounded) {
     std::ostringstream msg;
     msg << "Domain/Cell Size[" << d << "] = " << side << " is not a whole multiple of Discretization/Particle Spacing = "
-        << dx << " (ratio " << n << ")";
+        << dx << " (ratio " << std::setprecision(12) << n << ")";
     throw std::invalid_argument(msg.str());
   }
   return static_cast<int>(rounded);

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/StopRequest.hpp"
 #include "geometry/GrainBins.hpp"
 #include "geometry/Grains.hpp"
 
@@ -98,6 +99,7 @@ class Relaxation {
     for (double r : radii) largest = std::max(largest, r);
     const double reach = 2 * lambda * largest + gap_ + 1e3 * tolerance_;
     for (int sweep = 0; sweep < most_sweeps; ++sweep) {
+      stop_setup_if_asked("growing the random pack (Grains/Random Pack)");
       ++sweeps;
       for (size_t g = 0; g < grains.size(); ++g) grains[g].radius = lambda * radii[g];
       const GrainBins bins(grains, scene_, reach);

@@ -229,11 +229,18 @@ void check_checkpoint_matches(const CheckpointInfo& info, const std::string& pat
   std::map<std::string, std::string> saved;
   for (const auto& [name, value] : lines_of(info.fingerprint)) saved[name] = value;
   std::string differences;
+  std::map<std::string, std::string> here;
   for (const auto& [name, value] : lines_of(fingerprint)) {
+    here[name] = value;
     const auto it = saved.find(name);
     const std::string theirs = it == saved.end() ? "(not recorded)" : it->second;
     if (theirs != value) differences += "\n  " + name + ": " + theirs + " in the checkpoint, " + value + " here";
   }
+  // What the checkpoint's physics had and this scene has not at all (a
+  // second fluid, moving grains): that is other physics too.
+  for (const auto& [name, value] : saved)
+    if (here.find(name) == here.end())
+      differences += "\n  " + name + ": " + value + " in the checkpoint, none here";
   if (!differences.empty())
     throw std::invalid_argument("--restart " + path +
                                 ": the checkpoint is of other physics than this scene, so the run would not go on "

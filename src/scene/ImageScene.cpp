@@ -166,6 +166,31 @@ VoxelCounts count_pieces(const ImagePiece& piece, const std::vector<char>& solid
   return VoxelCounts{counts[0], counts[1]};
 }
 
+// The values of the pore voxels that neither Image/Solid Values nor a
+// phase's Image Values name, with their counts, over the boxes. More than
+// one of them says that the image holds more than solid and one pore: a
+// label image's grains, or 8-bit data read as 16 (Image/Type), all read as
+// pore.
+std::vector<std::pair<int, long long>> unnamed_pore_values(const ImagePiece& piece, const std::vector<char>& solid,
+                                                           const std::vector<int>& phase_values,
+                                                           const Communicator& comm) {
+  std::vector<long long> count(1 << 16, 0);
+  std::array<long long, 3> c{};
+  for (c[2] = piece.box.lo[2]; c[2] < piece.box.hi[2]; ++c[2])
+    for (c[1] = piece.box.lo[1]; c[1] < piece.box.hi[1]; ++c[1])
+      for (c[0] = piece.box.lo[0]; c[0] < piece.box.hi[0]; ++c[0]) {
+        const auto n = static_cast<size_t>(piece.index_of_cell_voxel(c));
+        if (!solid[n]) ++count[piece.voxels.values[n]];
+      }
+  for (int v : phase_values)
+    if (v >= 0 && v < static_cast<int>(count.size())) count[static_cast<size_t>(v)] = 0;
+  comm.sum(count.data(), static_cast<int>(count.size()));
+  std::vector<std::pair<int, long long>> found;
+  for (size_t v = 0; v < count.size(); ++v)
+    if (count[v] > 0) found.emplace_back(static_cast<int>(v), count[v]);
+  return found;
+}
+
 // The checksum of the whole image's solid flags (one uint16 a voxel, its
 // flat index in the cell the row), summed over the boxes.
 std::uint64_t pieces_solid_checksum(const ImagePiece& piece, const std::vector<char>& solid, const Communicator& comm) {
@@ -284,6 +309,17 @@ void build_image_scene(const ImageRequest& request, SceneConfig& scene, const Co
       refuse(named + " has no pore voxels: every value is one of Image/Solid Values " +
              list_text(request.solid_values));
     const size_t warnings = scene.warnings.size();
+    const auto unnamed = unnamed_pore_values(piece, solid, request.phase_values, comm);
+    if (unnamed.size() > 1) {
+      std::ostringstream msg;
+      msg << named << " holds " << unnamed.size() << " values that Image/Solid Values "
+          << list_text(request.solid_values) << " does not name (value: voxels";
+      for (size_t k = 0; k < unnamed.size() && k < 8; ++k)
+        msg << (k ? ", " : " ") << unnamed[k].first << ": " << unnamed[k].second;
+      msg << (unnamed.size() > 8 ? ", ...)" : ")")
+          << ", all read as pore: name the solid ones, or check Image/Type if the values look wrong";
+      scene.warnings.push_back(msg.str());
+    }
     warn_of_seams(piece, solid, named, scene, comm);
     // Every driven axis (each in turn for the tensor) needs a pore path
     // across the cell, or the run would spend its steps finding k = 0.

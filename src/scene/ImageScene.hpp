@@ -21,6 +21,9 @@ struct ImageRequest {
   // which a file that says its own shape must match where it is given.
   ImageSource source;
   std::vector<int> solid_values;
+  // Pore values given a meaning of their own (Phases/Phase 1/Image Values):
+  // not the plain pore's.
+  std::vector<int> phase_values;
   double voxel_size = 0;
   bool mirror = false;
   bool tensor = false;             // Permeability/Tensor: every axis is driven

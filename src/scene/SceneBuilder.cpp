@@ -287,6 +287,10 @@ void read_scene_image(const ParameterList& list, const std::string& scene_direct
   if (extension == ".raw" && shape_values.empty())
     throw ParameterError("Image/Shape is required for a .raw image ('" + file + "' says nothing of its own shape)");
   request.solid_values.assign(solid_values.begin(), solid_values.end());
+  if (list.sublist("Phases").get<int>("Count") == 2) {
+    const auto phase_values = list.sublist("Phases").sublist("Phase 1").get<Array<int>>("Image Values");
+    request.phase_values.assign(phase_values.begin(), phase_values.end());
+  }
   request.voxel_size = voxel_size;
   request.mirror = mirror;
   request.tensor = list.sublist("Permeability").get<bool>("Tensor");
@@ -590,7 +594,8 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   auto fail = [](const std::string& msg) { throw ParameterError(msg); };
   scene.name = list.sublist("Scene").get<std::string>("Name");
   // The name makes the default output directory, poresph-NAME: it must not
-  // lead anywhere else.
+  // lead anywhere else, nor be missing.
+  if (scene.name.empty()) fail("Scene/Name is empty: give the scene a name (summary.json's scene, poresph-NAME)");
   if (scene.name.find_first_of("/\\") != std::string::npos)
     fail("Scene/Name '" + scene.name + "' contains a path separator; name the output directory with --output");
   // It names a directory and is written into XML and JSON: a control
@@ -717,6 +722,8 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
     fail("Parallel/Rebalance Threshold follows a load that moves: fixed particles (Discretization/Particle Motion) "
          "keep the load they start with, which the first division already balances");
 
+  // Before the solid is read: the pore checks trace every axis the tensor drives.
+  scene.permeability_tensor = list.sublist("Permeability").get<bool>("Tensor");
   read_scene_image(list, scene_directory, scene);
   const auto& grains = list.sublist("Grains");
   try {
@@ -764,7 +771,6 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   }
 
   const auto& permeability = list.sublist("Permeability");
-  scene.permeability_tensor = permeability.get<bool>("Tensor");
   scene.linearity_check = permeability.get<bool>("Linearity Check");
   const auto& convergence = list.sublist("Convergence");
   scene.convergence_levels = convergence.get<int>("Levels");
@@ -775,6 +781,17 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   scene.steady_solver = solver.get<std::string>("Method") == "steady";
 
   check_measurement(scene);
+  // What is not refused but measures no k, said so rather than left out of summary.json unexplained.
+  int driven_axis = -1, components = 0;
+  for (int d = 0; d < scene.dimension; ++d)
+    if (scene.body_force[d] != 0) ++components, driven_axis = d;
+  if (components == 1 && !scene.permeability_tensor && !scene.periodic[driven_axis])
+    scene.warnings.push_back(std::string("Fluid/Body Force drives along ") + "xyz"[driven_axis] +
+                             ", across the channel's walls: no flow crosses them, so no k is measured (the fluid "
+                             "comes to rest with a hydrostatic pressure)");
+  if (components > 0 && !(scene.kinematic_viscosity > 0))
+    scene.warnings.push_back("Fluid/Kinematic Viscosity = 0: nothing resists the body force, so the fluid speeds up "
+                             "without end and no k is measured");
 
   scene.solver.tolerance = solver.get<double>("Tolerance");
   scene.solver.permeability_tolerance = solver.get<double>("Permeability Tolerance");
@@ -843,6 +860,11 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   if (!scene.profile_sample_times.empty() && scene.walls != WallType::Channel)
     fail("Diagnostics/Profile Sample Times compares a channel's velocity profile with its series solution, and this "
          "scene has no channel (Walls/Type = channel): leave it empty");
+  if (!scene.profile_sample_times.empty() &&
+      (!scene.grains.empty() || scene.image.voxels || scene.body_force[1] != 0 || scene.body_force[2] != 0))
+    fail("Diagnostics/Profile Sample Times compares the velocity profile of an empty channel driven along x with its "
+         "series solution, and this channel holds grains or an image or is driven across its walls: leave it "
+         "empty");
   read_phases(list, scene);
   if (!scene.has_phases() && std::find(scene.fields.begin(), scene.fields.end(), "phase") != scene.fields.end())
     fail("Output/Fields names 'phase', and the scene has one fluid (set Phases/Count = 2, or leave it out)");

@@ -361,4 +361,12 @@ inline double body_force_magnitude(const SceneConfig& scene) {
   return std::sqrt(sum);
 }
 
+// The force k is measured against, k_i = nu <u_i> / F: with a force along
+// one axis (axis >= 0), its signed component there, so that a force along
+// -x gives the same positive k as one along +x; with a force along several
+// axes (axis -1), |F|, and k is then the tensor times F's direction.
+inline double driving_force(const SceneConfig& scene, int axis) {
+  return axis >= 0 ? scene.body_force[axis] : body_force_magnitude(scene);
+}
+
 }  // namespace poresph

@@ -486,6 +486,21 @@ def class_4_restart():
         zero_bytes(damaged, dataset)
         case(f"a checkpoint with a zeroed block in {dataset} is refused", [TINY, "--output", out, "--restart", damaged,
              "--set", "Run/Max Steps=40"], 2, rf"the data of '{dataset}' do not match their checksum", absent(out))
+    # Cut short (its rows fewer than the rank record says) or missing: damaged, said so, exit 2.
+    for dataset, cut in [("v", True), ("rho", False)]:
+        damaged = path("restart", f"{'short' if cut else 'missing'}-{dataset}.h5")
+        shutil.copy(checkpoint, damaged)
+        with h5(damaged, "r+") as f:
+            data, attributes = f[dataset][...], dict(f[dataset].attrs)
+            del f[dataset]
+            if cut:
+                f.create_dataset(dataset, data=data[: len(data) // 2])
+                for key, value in attributes.items():
+                    f[dataset].attrs[key] = value
+        message = (rf"'{dataset}' holds {len(data) // 2} rows, fewer than the checkpoint records: the checkpoint is "
+                   r"damaged" if cut else rf"has no field '{dataset}'.*or the file is damaged")
+        case(f"a checkpoint whose {dataset} is {'cut short' if cut else 'missing'} is refused as damaged",
+             [TINY, "--output", out, "--restart", damaged, "--set", "Run/Max Steps=40"], 2, message, None)
     old = path("restart", "format-1.h5")
     shutil.copy(checkpoint, old)
     import numpy
@@ -1039,6 +1054,33 @@ def class_13_signals():
                     lambda step, o=out: [TINY, "--output", o] + sets(*settings, f"Run/Max Steps={step + 10}"),
                     expect_step=lambda step: step > 0 and step % 10 == 0)
 
+    # While a random pack grows (set-up before any particle, 32,000 grains: minutes before the growth stops
+    # at each sweep): the growth stops at once, nothing is written, exit 143.
+    out = fresh("pack-SIGTERM")
+    args = [os.path.join(INPUT, "problem3", "problem3.xml"), "--output", out] + sets(
+        "Grains/File=", "Discretization/Particle Spacing=0.002", "Grains/Random Pack/Porosity=0.6",
+        "Grains/Random Pack/Min Radius=2e-4", "Grains/Random Pack/Max Radius=2e-4")
+    problems, output = [], ""
+    try:
+        proc = start(args)
+        if not wait_for(lambda: handler_installed(proc.pid, signal.SIGTERM)):
+            problems.append("no handler installed")
+        time.sleep(0.5)  # into the growth
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGTERM)
+        output = proc.communicate(timeout=600)[0]
+        waited = time.monotonic() - sent
+        if proc.returncode != 128 + signal.SIGTERM:
+            problems.append(f"exit status {proc.returncode}, expected 143")
+        if waited > 10:
+            problems.append(f"it took {waited:.1f} s to stop")
+        if not re.search(r"stopped by SIGTERM while growing the random pack", output):
+            problems.append("no message of the stop")
+        problems += [p for p in [absent(out)()] if p]
+    except Exception as e:
+        problems.append(f"{type(e).__name__}: {e}")
+    report("SIGTERM while a random pack grows stops it at once, writes nothing, exit 143", problems, output)
+
     # SIGPIPE as it comes: the reader of the output goes away (`poresph ... | head -1`). The random pack's
     # note is the first line; the progress line after it finds no reader.
     out = fresh("pipe")
@@ -1240,7 +1282,13 @@ def class_16_messages():
         case(f"--set {setting}: said as such", [TINY, "--output", out, "--set", setting], 2, message, absent(out))
     case("a periodic cell narrower than the kernel's reach names the spacing that fits",
          [TINY, "--output", out, "--set", "Discretization/Particle Spacing=0.5"], 2,
-         r"Domain/Cell Size\[0\] = 1 is narrower than the kernel's reach at spacing 0.5.*at most 0.3333", absent(out))
+         r"Domain/Cell Size\[0\] = 1 is not wider than the kernel's reach at spacing 0.5.*smaller than 0.3333",
+         absent(out))
+    case("... and one as wide as the reach is refused without advising the spacing just given",
+         [TINY, "--output", out, "--set", "Discretization/Particle Spacing=0.25", "--set",
+          "Domain/Cell Size={0.75, 1.0}"], 2,
+         r"Domain/Cell Size\[0\] = 0.75 is not wider than the kernel's reach at spacing 0.25, 0.75 .*smaller than 0.25",
+         absent(out))
     for ranks, most in [(5, 4), (7, 6)]:
         case(f"{ranks} processes for a 4 x 4 lattice: refused, suggesting {most}",
              [TINY, "--output", out, "--set", "Discretization/Particle Spacing=0.25", "--set", "Run/Max Steps=2"], 2,
@@ -1499,13 +1547,104 @@ def class_20_durability():
         report(f"{label}: every rename ({len(renames)}: {', '.join(kinds)}) follows an fsync and precedes the "
                "directory's", problems[:5], output)
 
+def class_21_results_as_asked():
+    """A result means what its name says: k the same for a force either way, no k of a cell the grains close,
+    grains the lattice cannot see named, a checkpoint of two fluids not continued as one."""
+    channel = os.path.join(INPUT, "poiseuille.xml")
+    short = ["Discretization/Particle Spacing=1e-4", "Run/Max Steps=200"]
+    ks = {}
+    for force in ["2e-4", "-2e-4"]:
+        out = fresh(f"force{force}")
+        case(f"a channel driven along {'-' if force[0] == '-' else '+'}x", [channel, "--output", out] +
+             sets(*short, f"Fluid/Body Force={{{force}, 0}}"), 0, r"summary in",
+             lambda o=out, f=force: ks.__setitem__(f, summary(o)["permeability"]["kxx"]) or "")
+    report("a force along -x gives the k of one along +x, positive",
+           [] if len(ks) == 2 and ks["2e-4"] > 0 and ks["-2e-4"] == ks["2e-4"] else [f"k {ks}"])
+    grains = os.path.join(INPUT, "problem3", "problem3.xml")
+    closed = fresh("closed")
+    write(os.path.join(os.path.dirname(closed), "touching.txt"), "0.05 0.05 0.05\n")
+    for method in ["explicit", "steady"]:
+        case(f"a grain touching its periodic images closes the cell: refused ({method})",
+             [grains, "--output", closed] + sets("Discretization/Particle Spacing=0.002",
+                                                 "Grains/File=" + os.path.join(os.path.dirname(closed), "touching.txt"),
+                                                 f"Solver/Method={method}"), 2,
+             r"no pore path crosses the cell along x, the driven axis", absent(closed))
+    small = fresh("small")
+    write(os.path.join(os.path.dirname(small), "small.txt"), "0.05 0.05 0.0005\n0.02 0.02 0.01\n")
+    case("a grain that holds no lattice point is named", [grains, "--output", small] +
+         sets("Discretization/Particle Spacing=0.002", "Run/Max Steps=5",
+              "Grains/File=" + os.path.join(os.path.dirname(small), "small.txt")), 0,
+         r"1 grain \(.*small.txt:1, radius 0.0005\) holds no lattice point",
+         lambda: "" if any("holds no lattice point" in w for w in summary(small)["warnings"])
+         else "not in summary.json")
+    two = fresh("two-fluids")
+    layered = os.path.join(INPUT, "two_phase", "layered_poiseuille.xml")
+    spacing = "Discretization/Particle Spacing=6.25e-5"
+    case("a two-fluid run's checkpoint", [layered, "--output", two] +
+         sets(spacing, "Solver/Method=explicit", "Run/Max Steps=20"), 0, r"summary in", None)
+    one = fresh("one-fluid")
+    step = summary(two)["time_step"] if os.path.exists(os.path.join(two, "summary.json")) else 0
+    sound = summary(two)["sound_speed"] if step else 0
+    case("... is not continued by a scene of one fluid with the same cell, spacing, c and step",
+         [channel, "--output", one, "--restart", os.path.join(two, "checkpoint.h5")] +
+         sets(spacing, "Domain/Cell Size={2.5e-4, 1e-3}", "Run/Max Steps=40", f"Fluid/Sound Speed={sound!r}",
+              f"Discretization/Time Step={step!r}"), 2,
+         r"other physics.*Phases/Count: 2 in the checkpoint, none here", absent(one))
+    # An image of more values than solid and one pore: each unnamed value counted, all read as pore.
+    labels = fresh("labels")
+    folder = os.path.dirname(labels)
+    values = bytearray(40 * 40)
+    for j in range(10, 20):
+        values[j * 40 + 10:j * 40 + 20] = bytes([1]) * 10
+    for j in range(25, 30):
+        values[j * 40 + 5:j * 40 + 35] = bytes([2]) * 30
+    with open(os.path.join(folder, "labels.raw"), "wb") as f:
+        f.write(bytes(values))
+    image = sets("Grains/Inline={}", "Image/File=" + os.path.join(folder, "labels.raw"), "Image/Shape={40, 40}",
+                 "Image/Voxel Size=0.025", "Discretization/Particle Spacing=0.025", "Run/Max Steps=3")
+    case("an image with a value neither solid nor the pore's is warned of, with the voxels of each",
+         [TINY, "--output", labels] + image + sets("Image/Solid Values={1}"), 0,
+         r"holds 2 values that Image/Solid Values \{1\} does not name \(value: voxels 0: 1350, 2: 150\), all read as "
+         r"pore", None)
+    named = fresh("labels-named")
+    case("... and not when every value but the pore's is named", [TINY, "--output", named] + image +
+         sets("Image/Solid Values={1, 2}"), 0, r"summary in",
+         lambda: "" if not any("does not name" in w for w in summary(named)["warnings"]) else "warned")
+    column = fresh("column")
+    case("a channel of settling grains has no profile against an empty channel's (no null in summary.json)",
+         [os.path.join(INPUT, "moving", "settling_column.xml"), "--output", column, "--set", "Run/Max Steps=10"], 0,
+         r"summary in", lambda: "" if "null" not in open(os.path.join(column, "summary.json")).read()
+         and "profile_error" not in summary(column) else "a profile error, or null, in summary.json")
+    across = fresh("across")
+    case("a force across a channel's walls measures no k, and says so", [channel, "--output", across] +
+         sets(*short, "Fluid/Body Force={0, 2e-4}", "Diagnostics/Profile Sample Times={}"), 0,
+         r"drives along y, across the channel's walls: no flow crosses them, so no k is measured",
+         lambda: "" if "permeability" not in summary(across) else "a k across the walls")
+    profile = fresh("across-profile")
+    case("... and comparing its profile with an empty channel's is refused", [channel, "--output", profile] +
+         sets(*short, "Fluid/Body Force={0, 2e-4}"), 2,
+         r"Profile Sample Times compares the velocity profile of an empty channel driven along x", absent(profile))
+    inviscid = fresh("inviscid")
+    case("no viscosity under a body force: no k, said so", [channel, "--output", inviscid] +
+         sets(*short, "Fluid/Kinematic Viscosity=0"), 0, r"nothing resists the body force", None)
+    case("an empty Scene/Name is refused", [TINY, "--output", fresh("unnamed"), "--set", "Scene/Name="], 2,
+         r"Scene/Name is empty", None)
+    threads = fresh("threads")
+    status, output = run([TINY, "--output", threads] + sets("Run/Threads=2", "Run/Max Steps=3"))
+    serial = status == 0 and summary(threads)["backend"] == "Serial"
+    report("Run/Threads on a build without OpenMP is said to give one thread, not ignored",
+           [] if status == 0 and (not serial or any("Run/Threads = 2, but" in w for w in summary(threads)["warnings"]))
+           else [f"exit status {status}, or no warning"], output)
+
+
 CLASSES = {"1": class_1_counts, "2": class_2_xml, "3": class_3_grains, "4": class_4_restart,
            "5": class_5_output_directories, "6": class_6_results_kept,
            "7": class_7_messages, "8": class_8_setup_time,
            "9": class_9_tests_stay, "10": class_10_run_files, "11": class_11_claim,
            "12": class_12_restart_no_step_left, "13": class_13_signals, "14": class_14_continued_runs,
            "15": class_15_scene_requests, "16": class_16_messages, "17": class_17_names_and_encodings,
-           "18": class_18_image_sizes, "19": class_19_paths, "20": class_20_durability}
+           "18": class_18_image_sizes, "19": class_19_paths, "20": class_20_durability,
+           "21": class_21_results_as_asked}
 os.makedirs(WORK, exist_ok=True)
 os.chdir(WORK)  # a default output directory (poresph-NAME) lands here, never in the source tree
 CLASSES[CLASS]()
