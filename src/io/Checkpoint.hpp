@@ -89,8 +89,17 @@ void write_checked(Hdf5File& file, MPI_Comm comm, const std::string& name, const
 template <class T>
 std::vector<T> read_checked(Hdf5File& file, MPI_Comm comm, const std::string& name, long long first,
                             long long count) {
-  auto values = file.read_rows<T>(name, first, count);
+  // Rows the checkpoint's own record places where the dataset has none: cut
+  // short. Agreed before the read, which every process must join.
   const auto shape = file.shape(name);
+  int short_rows = shape.empty() || first < 0 || count < 0 || first + count > shape[0];
+  MPI_Allreduce(MPI_IN_PLACE, &short_rows, 1, MPI_INT, MPI_MAX, comm);
+  if (short_rows) {
+    const std::string rows = shape.empty() ? "no" : std::to_string(shape[0]);
+    throw std::invalid_argument(file.path() + ": '" + name + "' holds " + rows +
+                                " rows, fewer than the checkpoint records: the checkpoint is damaged");
+  }
+  auto values = file.read_rows<T>(name, first, count);
   const long long per_row = shape.size() == 2 ? shape[1] : 1;
   std::uint64_t sum = row_checksum(values.data(), count, per_row, first);
   MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_UINT64_T, MPI_SUM, comm);
@@ -235,7 +244,8 @@ void load_checkpoint(Sim& sim, const std::string& path, const CheckpointInfo& in
     using Value = typename std::decay_t<decltype(view)>::non_const_value_type;
     if (!file.has(view.label()))
       throw std::invalid_argument(path + " has no field '" + view.label() +
-                                  "': it was written by a scene without walls, grains or shifting that this one has");
+                                  "': it was written by a scene without walls, grains or shifting that this one has, "
+                                  "or the file is damaged");
     load_rows(view, read_checked<Value>(file, c, view.label(), first, count));
   });
   if (sim.scene().moving_grains()) {
