@@ -14,6 +14,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -286,6 +287,15 @@ class StageLoop {
     try {
       // One that came during the set-up (this stage's, or the run's before it).
       if (sim.communicator().any(stop_signal_pending())) stop_for_signal(stop_signal_received());
+      // Continued past where this run ends (a lower Run/Max Steps or End
+      // Time than the checkpoint's state): said, not a silent empty run.
+      if (resume_ && first_step > last_step_) {
+        std::ostringstream msg;
+        msg << "--restart: the checkpoint is at step " << first_step << " (t = " << sim.time()
+            << " s), past this run's last step " << last_step_ << " (Run/Max Steps " << scene_.max_steps
+            << ", Run/End Time " << scene_.end_time << " s): no step is made";
+        report_.warnings.push_back(msg.str());
+      }
       while (sim.steps() < last_step_) {
         if (sim.steps() + 1 == options_.inject_nan_at_step) sim.poison_next_step();
         sim.step();

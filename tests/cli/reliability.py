@@ -1629,6 +1629,13 @@ def class_21_results_as_asked():
          sets(*short, "Fluid/Kinematic Viscosity=0"), 0, r"nothing resists the body force", None)
     case("an empty Scene/Name is refused", [TINY, "--output", fresh("unnamed"), "--set", "Scene/Name="], 2,
          r"Scene/Name is empty", None)
+    ahead = fresh("ahead")
+    good_run(ahead)
+    past = fresh("past")
+    case("a restart from a checkpoint past the run's Run/Max Steps says it makes no step",
+         [TINY, "--output", past, "--restart", os.path.join(ahead, "checkpoint.h5"), "--set", "Run/Max Steps=5"], 0,
+         r"--restart: the checkpoint is at step [0-9]+ .*past this run's last step 5 .*no step is made",
+         lambda: "" if any("no step is made" in w for w in summary(past)["warnings"]) else "not in summary.json")
     threads = fresh("threads")
     status, output = run([TINY, "--output", threads] + sets("Run/Threads=2", "Run/Max Steps=3"))
     serial = status == 0 and summary(threads)["backend"] == "Serial"
