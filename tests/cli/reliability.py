@@ -1629,6 +1629,13 @@ def class_21_results_as_asked():
          sets(*short, "Fluid/Kinematic Viscosity=0"), 0, r"nothing resists the body force", None)
     case("an empty Scene/Name is refused", [TINY, "--output", fresh("unnamed"), "--set", "Scene/Name="], 2,
          r"Scene/Name is empty", None)
+    for height, warned in [("3e-4", True), ("1e-3", False)]:
+        narrow = fresh(f"channel-{height}")
+        case(f"a channel {height} m high at a spacing of 1e-4 m {'is' if warned else 'is not'} warned of as narrow",
+             [channel, "--output", narrow] + sets(*short, f"Domain/Cell Size={{5e-4, {height}}}",
+                                                  "Diagnostics/Profile Sample Times={}"), 0, r"summary in",
+             lambda o=narrow, w=warned: "" if any("particle spacings high" in x for x in summary(o)["warnings"]) == w
+             else "warned" if not w else "not warned")
     ahead = fresh("ahead")
     good_run(ahead)
     past = fresh("past")
