@@ -41,9 +41,9 @@ double narrowest_pore(const SceneConfig& scene) {
 
 namespace {
 
-// Lattice points above which grain_pore_crosses does not look (it holds 5
-// bytes a point): such a scene's memory check weighs far more.
-constexpr double kMostPointsToTrace = 2e8;
+// Lattice points above which the pore path is not traced (5 bytes a point,
+// before the scene's memory check, which asks some 400 bytes a point).
+constexpr double kMostPointsToTrace = 5e7;
 
 // Lattice points along each axis of a grain scene (1 beyond its dimension).
 std::array<long long, 3> lattice_shape(const SceneConfig& scene) {
@@ -87,21 +87,14 @@ void for_each_point_in(const SceneConfig& scene, const std::array<long long, 3>&
       }
 }
 
-// Whether the fluid points of a grain scene's lattice (outside every
-// grain), joined across faces, hold a path across the cell along `axis`, as
-// an image's pore voxels must (geometry/Percolation.hpp). Grains that touch
-// close throats that the throat check, which looks at gaps, counts as
-// contacts: a square array of touching discs leaves only pockets at its
-// corners.
-bool grain_pore_crosses(const SceneConfig& scene, int axis) {
-  const auto shape = lattice_shape(scene);
+// The fluid points of a grain scene's lattice (outside every grain), x
+// fastest; empty where there are too many to trace.
+std::vector<char> grain_fluid_points(const SceneConfig& scene, const std::array<long long, 3>& shape) {
   const double points = static_cast<double>(shape[0]) * static_cast<double>(shape[1]) * static_cast<double>(shape[2]);
-  if (points > kMostPointsToTrace) return true;  // not looked at
+  if (points > kMostPointsToTrace) return {};
   std::vector<char> open(static_cast<size_t>(points), 1);
   for (const Grain& grain : scene.grains) for_each_point_in(scene, shape, grain, [&](size_t flat) { open[flat] = 0; });
-  // No fluid at all is refused as such by the scene check (app/SceneCheck.cpp).
-  if (std::find(open.begin(), open.end(), 1) == open.end()) return true;
-  return open_percolates(shape, scene.dimension, open, axis, scene.periodic);
+  return open;
 }
 
 // The grains that hold no lattice point: smaller than the spacing, they
@@ -126,11 +119,18 @@ std::vector<std::string> check_pores(const SceneConfig& scene) {
     // which says more than the closed path it makes.
     auto warnings = check_throats(scene.grains, scene);
     // Every driven axis (each in turn for the tensor) needs a fluid path
-    // across the cell, or the run would spend its steps finding k = 0.
-    if (!scene.grains.empty())
+    // across the cell, or the run would spend its steps finding k = 0: the
+    // fluid points, joined across faces, traced as an image's pore voxels
+    // are (geometry/Percolation.hpp). Grains that touch close throats that
+    // the throat check, which looks at gaps, counts as contacts: a square
+    // array of touching discs leaves only pockets at its corners. No fluid
+    // at all is refused as such by the scene check (app/SceneCheck.cpp).
+    const auto shape = lattice_shape(scene);
+    const auto open = scene.grains.empty() ? std::vector<char>() : grain_fluid_points(scene, shape);
+    if (std::find(open.begin(), open.end(), 1) != open.end())
       for (int axis = 0; axis < scene.dimension; ++axis) {
         const bool driven = scene.periodic[axis] && (scene.permeability_tensor || scene.body_force[axis] != 0);
-        if (driven && !grain_pore_crosses(scene, axis))
+        if (driven && !open_percolates(shape, scene.dimension, open, axis, scene.periodic))
           throw std::invalid_argument(
               std::string("no pore path crosses the cell along ") + "xyz"[axis] +
               (scene.permeability_tensor ? " (Permeability/Tensor drives every axis)" : ", the driven axis") +
