@@ -56,16 +56,21 @@ bool tensor_records(const std::vector<StageRecord>& records) {
 // not settled: its last Newton step moved k by r.relative_change, more than
 // Solver/Permeability Tolerance. A fast flow is named as the likely cause
 // where convection outweighs viscosity at the particle scale.
-std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, const SummaryScales& scales) {
+std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, const SummaryScales& scales,
+                                bool last_stage) {
   const int max_inner_iterations = scales.max_inner_iterations;
   const double tolerance = scales.solver_tolerance;
   char text[1600];
+  // The checkpoint holds the last stage's state only: an earlier stage's
+  // solve is taken up again by running the scene anew.
   int n = std::snprintf(text, sizeof text,
                         "the steady solve of %s did not converge: relative residual %.3g after %lld Newton and %lld "
-                        "linear iterations; k is that of its last state, which the checkpoint keeps (raise Solver/Max "
-                        "Linear Iterations or Solver/Max Nonlinear Iterations, and continue with --restart)",
+                        "linear iterations; k is that of its last state%s (raise Solver/Max Linear Iterations or "
+                        "Solver/Max Nonlinear Iterations, and %s)",
                         stage_name(r, levels, tensor).c_str(), r.solver_residual, r.nonlinear_iterations,
-                        r.linear_iterations);
+                        r.linear_iterations, last_stage ? ", which the checkpoint keeps" : "",
+                        last_stage ? "continue with --restart" : "run the scene again: a restart continues its last "
+                                                                 "stage only");
   if (tolerance > 0 && r.solver_residual <= tolerance && n > 0 && n < static_cast<int>(sizeof text))
     n += std::snprintf(text + n, sizeof text - n,
                        "; the residual is below Solver/Tolerance, but the last Newton step still moved k by %.2g %%, "
@@ -141,8 +146,12 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     solver.solve_seconds += r.solver_solve_seconds;
     solver.bytes_per_particle = std::max(solver.bytes_per_particle, r.solver_bytes_per_particle);
     if (!r.solver_converged)
-      report.warnings.push_back(unconverged_warning(r, levels, tensor_records(records), scales));
+      report.warnings.push_back(unconverged_warning(r, levels, tensor_records(records), scales, &r == &records.back()));
   }
+  // The run's verdict, not only its last stage's: a restart that solved the
+  // last stage leaves an earlier stage's unconverged solve as it was.
+  if (report.solver.method == "steady" && !report.solver.converged && report.stopped_by == "steady_state")
+    report.stopped_by = "not_converged";
   bool any = false, steady = true;
   const bool tensor = tensor_records(records);
   for (const auto& r : records) {

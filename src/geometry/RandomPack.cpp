@@ -241,7 +241,8 @@ RandomPack make_random_pack(const RandomPackSpec& spec, const SceneConfig& scene
         std::ostringstream msg;
         msg << "the grains jammed at porosity " << 1 - reached / cell_volume << " before reaching "
             << spec.porosity << " (Minimum Gap " << spec.minimum_gap << " spacings"
-            << (spec.contacts ? "" : ", no contacts") << "). Ask for a higher porosity, a smaller gap"
+            << (spec.contacts ? "" : ", no contacts") << "). Ask for a higher porosity"
+            << (spec.minimum_gap > 1 ? ", a smaller gap" : "")  // 1 spacing is the least it may be
             << (spec.contacts ? "" : ", contacts (Contacts = true)") << " or wider-spread radii";
         throw std::invalid_argument(fail_message(msg.str()));
       }
@@ -253,8 +254,8 @@ RandomPack make_random_pack(const RandomPackSpec& spec, const SceneConfig& scene
   if (spec.contacts && !relaxation.settle(pack.grains, radii, 1.0, 20 * kMostSweeps, pack.sweeps)) {
     std::ostringstream msg;
     msg << "the grains could not keep every throat either closed (a contact) or " << spec.minimum_gap
-        << " spacings open at porosity " << spec.porosity << ". Ask for a smaller gap, a higher porosity or "
-        << "grains of more spacings across";
+        << " spacings open at porosity " << spec.porosity << ". Ask for "
+        << (spec.minimum_gap > 1 ? "a smaller gap, " : "") << "a higher porosity or grains of more spacings across";
     throw std::invalid_argument(fail_message(msg.str()));
   }
 

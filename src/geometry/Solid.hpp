@@ -213,12 +213,13 @@ struct SolidMap {
         grains.offset_from_centre(x, g, r);
         for (int d = 0; d < Dim; ++d) dist_sq += r[d] * r[d];
         const double radius = grains.grains(g, Dim);
-        if (dist_sq >= radius * radius || dist_sq == 0) return;  // outside (or at the centre: no normal)
+        if (dist_sq >= radius * radius) return;  // outside
         const double dist = math::sqrt(dist_sq);
         if (radius - dist <= depth) return;
         deepest = g;
         depth = radius - dist;
-        for (int d = 0; d < Dim; ++d) normal[d] = r[d] / dist;
+        // At the very centre every way out is as short: along x.
+        for (int d = 0; d < Dim; ++d) normal[d] = dist > 0 ? r[d] / dist : (d == 0 ? 1.0 : 0.0);
       });
     if (has_image) {
       const double distance = image.value(x);

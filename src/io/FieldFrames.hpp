@@ -2,7 +2,10 @@
 // Field files every Output/Field Interval of simulated time, and at the
 // start and end of a run (io/FieldWriter.hpp), as an observer of the time
 // loop. A restart goes on with the frames its checkpoint lists, and writes
-// the next one where the run would have written it had it not stopped.
+// the next one where the run would have written it had it not stopped. A
+// steady solve (Solver/Method = steady) has one frame, its solved state:
+// it takes no step, so its start (fluid at rest) would share the solved
+// state's step and file.
 #include <cmath>
 #include <memory>
 #include <string>
@@ -20,13 +23,14 @@ class FieldFrames : public Observer<Sim> {
   // continuing: in its own directory (the earlier frames are still there).
   FieldFrames(Sim& sim, const std::string& output_dir, const std::string& suffix, const RunState* restored,
               bool continuing)
-      : writer_(sim.scene(), output_dir, suffix), interval_(sim.scene().field_interval) {
+      : writer_(sim.scene(), output_dir, suffix), interval_(sim.scene().field_interval),
+        solved_(sim.scene().steady_solver) {
     if (continuing) {
       writer_.add_earlier_frames(restored->frame_steps, restored->frame_times,
                                  sim.fluid_particles() + sim.boundary_particles());
       // The descriptions may name frames written after the checkpoint, which are gone now.
       if (sim.communicator().rank() == 0) writer_.describe();
-    } else if (interval_ > 0 && !restored) {
+    } else if (interval_ > 0 && !restored && !solved_) {
       writer_.write(sim);
     }
     scheduled_ = writer_.frame_steps().size();
@@ -49,7 +53,7 @@ class FieldFrames : public Observer<Sim> {
     next_time_ += interval_;
   }
   void at_end(Sim& sim) override {
-    if (interval_ > 0 && (writer_.frame_steps().empty() || writer_.frame_steps().back() != sim.steps()))
+    if (interval_ > 0 && (solved_ || writer_.frame_steps().empty() || writer_.frame_steps().back() != sim.steps()))
       writer_.write(sim);
   }
   // The frames on the schedule: the end of a run adds one of its own, which
@@ -64,6 +68,7 @@ class FieldFrames : public Observer<Sim> {
  private:
   FieldWriter<Dim> writer_;
   double interval_;
+  bool solved_;  // a steady solve's stage
   size_t scheduled_ = 0;
   double next_time_ = INFINITY;
 };

@@ -43,7 +43,8 @@ class FieldWriter {
   const std::vector<double>& frame_steps() const { return steps_; }
   const std::vector<double>& frame_times() const { return times_; }
 
-  // The frame of a simulation's current state (app/Simulation.hpp).
+  // The frame of a simulation's current state (app/Simulation.hpp); at the
+  // step of the last frame listed (a steady solve continued), its file anew.
   template <class Sim>
   void write(Sim& sim) {
     const auto& P = sim.particles();
@@ -86,7 +87,7 @@ class FieldWriter {
       if (!scene_.grid_points.empty()) write_grid(file, block, grid_values);
       if (scene_.moving_grains()) write_grains(file, sim.rigid_grains().bodies(), comm.rank() == 0);
     });
-    add_frame(sim.steps(), sim.time(), total);
+    if (steps_.empty() || steps_.back() != static_cast<double>(sim.steps())) add_frame(sim.steps(), sim.time(), total);
     if (comm.rank() == 0) describe();
   }
 

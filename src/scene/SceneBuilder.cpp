@@ -644,6 +644,13 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
     fail("Discretization/Particle Spacing and Discretization/Spacings Across Throat exclude each other: give one");
   if (!(scene.particle_spacing > 0) && !(across_throat > 0))
     fail("Discretization/Particle Spacing (or Spacings Across Throat) must be positive");
+  if (across_throat > 0 && across_throat < 1) {
+    std::ostringstream msg;
+    msg << "Discretization/Spacings Across Throat = " << across_throat
+        << " puts less than one spacing across the narrowest throat, which then holds no fluid particle: give 1 or "
+           "more (3 or more resolve the flow there)";
+    fail(msg.str());
+  }
   scene.smoothing_length_ratio = disc.get<double>("Smoothing Length Ratio");
   scene.resummation_interval = disc.get<int>("Density Resummation Interval");
   scene.time_step = disc.get<double>("Time Step");
@@ -803,6 +810,10 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
     scene.warnings.push_back(std::string("Fluid/Body Force drives along ") + "xyz"[driven_axis] +
                              ", across the channel's walls: no flow crosses them, so no k is measured (the fluid "
                              "comes to rest with a hydrostatic pressure)");
+  if (components > 0 && scene.moving_grains())
+    scene.warnings.push_back("Grains/Motion moves grains while Fluid/Body Force drives the fluid: k = nu <u> / F is "
+                             "then measured on a flow whose solid moves, not the Darcy permeability of a fixed pack "
+                             "(hold the grains, Grains/Motion = fixed, to measure that)");
   if (components > 0 && !(scene.kinematic_viscosity > 0))
     scene.warnings.push_back("Fluid/Kinematic Viscosity = 0: nothing resists the body force, so the fluid speeds up "
                              "without end and no k is measured");
@@ -885,6 +896,11 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   if (!scene.moving_interface &&
       std::find(scene.fields.begin(), scene.fields.end(), "colour") != scene.fields.end())
     fail("Output/Fields names 'colour', the phase field of Phases/Interface = moving, and this scene has none");
+  // Fields other than the default, with no field file to write them to, would do nothing.
+  const auto default_fields = valid_parameters()->sublist("Output").get<std::string>("Fields");
+  if (list.sublist("Output").get<std::string>("Fields") != default_fields && !(scene.field_interval > 0))
+    fail("Output/Fields is given, but the fields are written to the field files and Output/Field Interval is 0: "
+         "set an interval, or leave Output/Fields out");
   return scene;
 }
 

@@ -1643,6 +1643,42 @@ def class_21_results_as_asked():
          [TINY, "--output", past, "--restart", os.path.join(ahead, "checkpoint.h5"), "--set", "Run/Max Steps=5"], 0,
          r"--restart: the checkpoint is at step [0-9]+ .*past this run's last step 5 .*no step is made",
          lambda: "" if any("no step is made" in w for w in summary(past)["warnings"]) else "not in summary.json")
+    # A steady solve's field file is its solved state (the start at rest shared its step and file).
+    solved = fresh("solved-fields")
+    def solved_frame():
+        import h5py
+        files = sorted(f for f in os.listdir(solved) if f.startswith("fields_"))
+        if len(files) != 1:
+            return f"field files {files}"
+        with h5py.File(os.path.join(solved, files[0]), "r") as f:
+            if not abs(f["velocity"][...]).max() > 0:
+                return "the field file holds fluid at rest"
+            solid = f["grid_solid"][...].reshape(-1)
+        return "" if solid[len(solid) // 2] == 1 else "the grid node at the grain's centre is not solid"
+    case("a steady solve writes its solved flow to the field files; a grid node at a grain's centre is solid",
+         [TINY, "--output", solved] + sets(GRAIN, "Solver/Method=steady", "Output/Field Interval=1000",
+                                           "Output/Grid Points={11, 11}"), 0, r"converged", solved_frame)
+    # A tensor solve cut short, continued: the last axis is solved again, the others are not.
+    cut = fresh("tensor-cut")
+    case("a tensor solve capped at one Newton step", [TINY, "--output", cut] +
+         sets(GRAIN, "Solver/Method=steady", "Permeability/Tensor=true", "Solver/Max Nonlinear Iterations=1",
+              "Solver/Tolerance=1e-9"), 4, r"NOT converged", None)
+    more = fresh("tensor-continued")
+    case("... continued: still not converged, said so in stopped_by, the earlier axis to be run again",
+         [TINY, "--output", more, "--restart", os.path.join(cut, "checkpoint.h5")] +
+         sets(GRAIN, "Solver/Method=steady", "Permeability/Tensor=true", "Solver/Tolerance=1e-9"), 4,
+         r"driven along x did not converge.*run the scene again: a restart continues its last stage only",
+         lambda: "" if summary(more)["stopped_by"] == "not_converged" else f"stopped_by {summary(more)['stopped_by']}")
+    case("Output/Fields without field files is refused", [TINY, "--output", fresh("fields")] +
+         sets("Output/Fields=pressure"), 2, r"Output/Fields is given, but .*Output/Field Interval is 0", None)
+    case("Discretization/Spacings Across Throat below 1 is refused", [TINY, "--output", fresh("across")] +
+         sets(GRAIN, "Discretization/Particle Spacing=0", "Discretization/Spacings Across Throat=0.5"), 2,
+         r"Spacings Across Throat = 0.5.* less than one spacing across the narrowest throat", None)
+    case("grains set moving under a body force: k is said not to be a fixed pack's",
+         [TINY, "--output", fresh("moving")] + sets("Grains/Inline={0.5, 0.5, 0.15}", "Grains/Motion=free",
+                                                    "Grains/Density=2000", "Run/Max Steps=5",
+                                                    "Discretization/Particle Motion=lagrangian"), 0,
+         r"Grains/Motion moves grains while Fluid/Body Force drives the fluid", None)
     threads = fresh("threads")
     status, output = run([TINY, "--output", threads] + sets("Run/Threads=2", "Run/Max Steps=3"))
     serial = status == 0 and summary(threads)["backend"] == "Serial"
