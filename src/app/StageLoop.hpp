@@ -223,7 +223,7 @@ class StageLoop {
     const auto loop_start = Clock::now();
     auto seconds = [&]() { return std::chrono::duration<double>(Clock::now() - loop_start).count(); };
     if (sim.communicator().any(stop_signal_pending())) stop_for(stop_signal_received(), seconds(), first_step);
-    const double force = driving_force(scene_, axis_);
+    const double force = driving_force(scene_);
     // The Newton step being solved, and where its residual estimate stood a while ago.
     int step_index = -1;
     RecentAnchor anchor;
@@ -403,7 +403,7 @@ class StageLoop {
       r.solver_solve_seconds = solve.solve_seconds;
       r.solver_bytes_per_particle = solve.bytes_per_particle;
     }
-    const double force = driving_force(scene_, axis_);
+    const double force = driving_force(scene_);
     if (steady_report_ && measures_permeability() && force != 0) {
       // The solved state's own k: no pseudo-time, so no span to judge it over.
       r.has_permeability = true;
@@ -437,17 +437,6 @@ class StageLoop {
     const long long since = sim_->neighbour_rebuilds();
     if (!resume_) return since;
     return static_cast<long long>(resume_->state.neighbour_rebuilds) + std::max(since - 1, 0LL);
-  }
-
-  // The one axis a body force points along, or -1 if it has several components.
-  static int force_axis(const SceneConfig& scene) {
-    int axis = -1;
-    for (int d = 0; d < scene.dimension; ++d) {
-      if (scene.body_force[d] == 0) continue;
-      if (axis >= 0) return -1;
-      axis = d;
-    }
-    return axis;
   }
 
   Stage stage_;

@@ -75,9 +75,8 @@ class ChannelProbe : public Observer<Sim> {
     const SceneConfig& scene = s.scene;
     if (scene.walls != WallType::Channel || s.stage_axis > 0 || scene.steady_solver || scene.has_phases())
       return nullptr;
-    const bool across = scene.body_force[1] != 0 || (scene.dimension == 3 && scene.body_force[2] != 0);
     const bool driven = scene.body_force[0] != 0 || scene.lower_wall_velocity != 0 || scene.upper_wall_velocity != 0;
-    if (!scene.grains.empty() || scene.image.voxels || across || !driven) return nullptr;
+    if (!scene.empty_channel() || !driven) return nullptr;
     auto probe = std::make_unique<ChannelProbe>(
         s.sim, ChannelFlow{scene.cell_size[1], scene.kinematic_viscosity, scene.body_force[0],
                            scene.lower_wall_velocity, scene.upper_wall_velocity},

@@ -46,7 +46,7 @@ class PermeabilityProbe : public Observer<Sim> {
   static std::unique_ptr<Observer<Sim>> make(const StageSetting<Sim>& s) {
     const SceneConfig& scene = s.scene;
     if (!measures(scene, s.force_axis)) return nullptr;
-    PermeabilityMonitor<Dim> monitor(s.force_axis, scene.kinematic_viscosity, driving_force(scene, s.force_axis),
+    PermeabilityMonitor<Dim> monitor(s.force_axis, scene.kinematic_viscosity, driving_force(scene),
                                      s.porosity, s.acoustic_time, scene.steady_window, scene.steady_tolerance,
                                      s.warm_started);
     return std::make_unique<PermeabilityProbe>(

@@ -120,7 +120,7 @@ std::vector<PhaseMeasure> measure_phases(const Sim& sim, const SceneConfig& scen
     fluid += s.volume;
     sums.push_back(s);
   }
-  const double force = driving_force(scene, axis), k = scene.single_phase_permeability;
+  const double force = driving_force(scene), k = scene.single_phase_permeability;
   std::vector<PhaseMeasure> measures;
   for (size_t p = 0; p < sums.size(); ++p) {
     PhaseMeasure m;

@@ -64,8 +64,7 @@ void check_measurement(const SceneConfig& scene) {
     // Walls that close the cell along the driven axis pass no flow along it:
     // k there is zero by construction, and a run measuring it would chase a
     // relative change of nothing (a march never steady, a solve never settled).
-    int axis = 0;
-    while (scene.body_force[axis] == 0) ++axis;
+    const int axis = force_axis(scene);
     if (scene.periodic[axis]) return;
     if (scene.steady_tolerance > 0) asked.push_back("Permeability/Steady Tolerance");
     if (scene.linearity_check) asked.push_back("Permeability/Linearity Check");
@@ -803,18 +802,17 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
 
   check_measurement(scene);
   // What is not refused but measures no k, said so rather than left out of summary.json unexplained.
-  int driven_axis = -1, components = 0;
-  for (int d = 0; d < scene.dimension; ++d)
-    if (scene.body_force[d] != 0) ++components, driven_axis = d;
-  if (components == 1 && !scene.permeability_tensor && !scene.periodic[driven_axis])
+  const int driven_axis = force_axis(scene);
+  const bool forced = body_force_magnitude(scene) > 0;
+  if (driven_axis >= 0 && !scene.permeability_tensor && !scene.periodic[driven_axis])
     scene.warnings.push_back(std::string("Fluid/Body Force drives along ") + "xyz"[driven_axis] +
                              ", across the channel's walls: no flow crosses them, so no k is measured (the fluid "
                              "comes to rest with a hydrostatic pressure)");
-  if (components > 0 && scene.moving_grains())
+  if (forced && scene.moving_grains())
     scene.warnings.push_back("Grains/Motion moves grains while Fluid/Body Force drives the fluid: k = nu <u> / F is "
                              "then measured on a flow whose solid moves, not the Darcy permeability of a fixed pack "
                              "(hold the grains, Grains/Motion = fixed, to measure that)");
-  if (components > 0 && !(scene.kinematic_viscosity > 0))
+  if (forced && !(scene.kinematic_viscosity > 0))
     scene.warnings.push_back("Fluid/Kinematic Viscosity = 0: nothing resists the body force, so the fluid speeds up "
                              "without end and no k is measured");
 
@@ -885,8 +883,7 @@ SceneConfig scene_from_parameters(const ParameterList& list, const std::string& 
   if (!scene.profile_sample_times.empty() && scene.walls != WallType::Channel)
     fail("Diagnostics/Profile Sample Times compares a channel's velocity profile with its series solution, and this "
          "scene has no channel (Walls/Type = channel): leave it empty");
-  if (!scene.profile_sample_times.empty() &&
-      (!scene.grains.empty() || scene.image.voxels || scene.body_force[1] != 0 || scene.body_force[2] != 0))
+  if (!scene.profile_sample_times.empty() && scene.walls == WallType::Channel && !scene.empty_channel())
     fail("Diagnostics/Profile Sample Times compares the velocity profile of an empty channel driven along x with its "
          "series solution, and this channel holds grains or an image or is driven across its walls: leave it "
          "empty");

@@ -244,6 +244,11 @@ struct SceneConfig {
   WallType walls = WallType::None;
   double lower_wall_velocity = 0.0;  // along x
   double upper_wall_velocity = 0.0;
+  // A channel with nothing in it, driven along x or by its walls: the flow
+  // whose start-up the series solution gives (diagnostics/ChannelFlow.hpp).
+  bool empty_channel() const {
+    return walls == WallType::Channel && grains.empty() && !image.voxels && body_force[1] == 0 && body_force[2] == 0;
+  }
 
   double end_time = 0.0;
   long long max_steps = 0;  // 0: no limit
@@ -361,11 +366,23 @@ inline double body_force_magnitude(const SceneConfig& scene) {
   return std::sqrt(sum);
 }
 
+// The one axis the body force points along, or -1 (no force, or several components).
+inline int force_axis(const SceneConfig& scene) {
+  int axis = -1;
+  for (int d = 0; d < scene.dimension; ++d) {
+    if (scene.body_force[d] == 0) continue;
+    if (axis >= 0) return -1;
+    axis = d;
+  }
+  return axis;
+}
+
 // The force k is measured against, k_i = nu <u_i> / F: with a force along
-// one axis (axis >= 0), its signed component there, so that a force along
-// -x gives the same positive k as one along +x; with a force along several
-// axes (axis -1), |F|, and k is then the tensor times F's direction.
-inline double driving_force(const SceneConfig& scene, int axis) {
+// one axis, its signed component there, so that a force along -x gives the
+// same positive k as one along +x; with a force along several axes, |F|,
+// and k is then the tensor times F's direction.
+inline double driving_force(const SceneConfig& scene) {
+  const int axis = force_axis(scene);
   return axis >= 0 ? scene.body_force[axis] : body_force_magnitude(scene);
 }
 
