@@ -3,6 +3,7 @@
 // Read from a text file (one grain a line: cx cy r, or cx cy cz r) or from
 // an inline list, and checked before any work is done.
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,40 @@ std::vector<Grain> grains_from_list(const std::vector<double>& values, int dimen
 inline double ball_volume(double r, int dim) {
   constexpr double pi = 3.14159265358979323846;
   return dim == 2 ? pi * r * r : 4.0 / 3.0 * pi * r * r * r;
+}
+
+// f(index, from_centre, dist) for every point (i + 1/2) dx of a lattice of
+// `count` points a side whose distance from the grain's centre is at most
+// its radius + reach: index wrapped on periodic axes and left as it falls on
+// the others (the caller bounds it), from_centre the point's unwrapped
+// offset. Only the grain's bounding box is scanned, so a grain costs its
+// volume, not the lattice's.
+template <int Dim, class F>
+void for_each_point_of_grain(const Grain& grain, double dx, double reach, const std::array<bool, 3>& periodic,
+                             const int (&count)[Dim], F&& f) {
+  int box_lo[Dim], box_hi[Dim];
+  long long box = 1;
+  for (int d = 0; d < Dim; ++d) {
+    box_lo[d] = static_cast<int>(std::floor((grain.centre[d] - grain.radius) / dx - 0.5));
+    box_hi[d] = static_cast<int>(std::ceil((grain.centre[d] + grain.radius) / dx - 0.5));
+    box *= box_hi[d] - box_lo[d] + 1;
+  }
+  for (long long b = 0; b < box; ++b) {
+    int index[Dim];
+    double from_centre[Dim];
+    double dist_sq = 0;
+    long long rest = b;
+    for (int d = 0; d < Dim; ++d) {
+      const int span = box_hi[d] - box_lo[d] + 1;
+      const int unwrapped = box_lo[d] + static_cast<int>(rest % span);
+      rest /= span;
+      from_centre[d] = (unwrapped + 0.5) * dx - grain.centre[d];
+      dist_sq += from_centre[d] * from_centre[d];
+      index[d] = periodic[d] ? ((unwrapped % count[d]) + count[d]) % count[d] : unwrapped;
+    }
+    const double dist = std::sqrt(dist_sq);
+    if (dist <= grain.radius + reach) f(index, from_centre, dist);
+  }
 }
 
 // Displacement a - b to the nearest periodic image along periodic directions.

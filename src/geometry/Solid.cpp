@@ -8,6 +8,7 @@
 
 #include "geometry/DistanceTransform.hpp"
 #include "geometry/Grains.hpp"
+#include "geometry/Lattice.hpp"
 #include "geometry/Percolation.hpp"
 #include "parallel/Communicator.hpp"
 
@@ -49,42 +50,34 @@ constexpr double kMostPointsToTrace = 5e7;
 std::array<long long, 3> lattice_shape(const SceneConfig& scene) {
   std::array<long long, 3> shape{{1, 1, 1}};
   for (int d = 0; d < scene.dimension; ++d)
-    shape[d] = std::max(1LL, std::llround(scene.cell_size[d] / scene.particle_spacing));
+    shape[d] = lattice_points_across(scene.cell_size[d], scene.particle_spacing, d);
   return shape;
 }
 
 // f(flat index, x fastest) for every lattice point (i + 1/2) dx of the
 // cell that lies in `grain` (on its surface included, as the boundary
 // particles are made), its periodic images folded in.
+template <int Dim, class F>
+void for_each_point_in(const SceneConfig& scene, const std::array<long long, 3>& shape, const Grain& grain, F&& f) {
+  int count[Dim];
+  for (int d = 0; d < Dim; ++d) count[d] = static_cast<int>(shape[d]);
+  for_each_point_of_grain<Dim>(grain, scene.particle_spacing, 1e-9 * scene.particle_spacing, scene.periodic, count,
+                               [&](const int (&index)[Dim], const double (&)[Dim], double) {
+                                 size_t flat = 0, stride = 1;
+                                 for (int d = 0; d < Dim; ++d) {
+                                   if (index[d] < 0 || index[d] >= count[d]) return;  // outside a wall
+                                   flat += static_cast<size_t>(index[d]) * stride;
+                                   stride *= static_cast<size_t>(count[d]);
+                                 }
+                                 f(flat);
+                               });
+}
 template <class F>
 void for_each_point_in(const SceneConfig& scene, const std::array<long long, 3>& shape, const Grain& grain, F&& f) {
-  const int dim = scene.dimension;
-  const double dx = scene.particle_spacing;
-  long long lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-  for (int d = 0; d < dim; ++d) {
-    lo[d] = static_cast<long long>(std::floor((grain.centre[d] - grain.radius) / dx - 0.5));
-    hi[d] = static_cast<long long>(std::ceil((grain.centre[d] + grain.radius) / dx - 0.5));
-    if (hi[d] - lo[d] + 1 > shape[d]) lo[d] = 0, hi[d] = shape[d] - 1;  // the grain spans the cell
-  }
-  for (long long k = lo[2]; k <= hi[2]; ++k)
-    for (long long j = lo[1]; j <= hi[1]; ++j)
-      for (long long i = lo[0]; i <= hi[0]; ++i) {
-        const long long at[3] = {i, j, k};
-        double dist_sq = 0;
-        size_t flat = 0, stride = 1;
-        bool inside_lattice = true;
-        for (int d = 0; d < dim; ++d) {
-          double r = (at[d] + 0.5) * dx - grain.centre[d];
-          if (scene.periodic[d]) r -= scene.cell_size[d] * std::round(r / scene.cell_size[d]);
-          dist_sq += r * r;
-          long long index = at[d];
-          if (scene.periodic[d]) index = ((index % shape[d]) + shape[d]) % shape[d];
-          else inside_lattice = inside_lattice && index >= 0 && index < shape[d];
-          flat += static_cast<size_t>(index) * stride;
-          stride *= static_cast<size_t>(shape[d]);
-        }
-        if (inside_lattice && std::sqrt(dist_sq) <= grain.radius + 1e-9 * dx) f(flat);
-      }
+  if (scene.dimension == 2)
+    for_each_point_in<2>(scene, shape, grain, f);
+  else
+    for_each_point_in<3>(scene, shape, grain, f);
 }
 
 // The fluid points of a grain scene's lattice (outside every grain), x

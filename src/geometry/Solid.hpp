@@ -23,6 +23,7 @@
 #include "core/Particles.hpp"
 #include "geometry/DistanceField.hpp"
 #include "geometry/GrainMap.hpp"
+#include "geometry/Grains.hpp"
 #include "scene/SceneConfig.hpp"
 
 namespace poresph {
@@ -72,37 +73,12 @@ void mark_grain_shells(const std::vector<Grain>& grains, const std::array<bool, 
                        const LatticeBlock<Dim>& block, std::vector<SolidMark<Dim>>& marks) {
   const double dx = block.dx;
   std::vector<double> depth(marks.size(), 0.0);
-  for (const Grain& grain : grains) {
-    int box_lo[Dim], box_hi[Dim];
-    long long box = 1;
-    for (int d = 0; d < Dim; ++d) {
-      box_lo[d] = static_cast<int>(std::floor((grain.centre[d] - grain.radius) / dx - 0.5));
-      box_hi[d] = static_cast<int>(std::ceil((grain.centre[d] + grain.radius) / dx - 0.5));
-      box *= box_hi[d] - box_lo[d] + 1;
-    }
-    for (long long b = 0; b < box; ++b) {
-      int index[Dim];
-      long long rest = b;
-      bool inside_lattice = true;
-      double dist_sq = 0;
-      double from_centre[Dim];
-      for (int d = 0; d < Dim; ++d) {
-        const int span = box_hi[d] - box_lo[d] + 1;
-        const int unwrapped = box_lo[d] + static_cast<int>(rest % span);
-        rest /= span;
-        from_centre[d] = (unwrapped + 0.5) * dx - grain.centre[d];
-        dist_sq += from_centre[d] * from_centre[d];
-        if (periodic[d]) {
-          const int n = block.count[d];
-          index[d] = ((unwrapped % n) + n) % n;
-        } else {
-          index[d] = unwrapped;
-          inside_lattice = inside_lattice && index[d] >= block.first[d] && index[d] < block.first[d] + block.count[d];
-        }
-      }
-      if (!inside_lattice || !block.in_local(index)) continue;
-      const double dist = std::sqrt(dist_sq);
-      if (dist > grain.radius + block.on_surface) continue;
+  for (const Grain& grain : grains)
+    for_each_point_of_grain<Dim>(grain, dx, block.on_surface, periodic, block.count,
+                                 [&](const int (&index)[Dim], const double (&from_centre)[Dim], double dist) {
+      for (int d = 0; d < Dim; ++d)
+        if (!periodic[d] && (index[d] < block.first[d] || index[d] >= block.first[d] + block.count[d])) return;
+      if (!block.in_local(index)) return;
       const long long k = block.flat_index(index);
       SolidMark<Dim>& mark = marks[k];
       const double below_surface = grain.radius - dist;
@@ -114,8 +90,7 @@ void mark_grain_shells(const std::vector<Grain>& grains, const std::array<bool, 
         for (int d = 0; d < Dim; ++d) mark.wall_vector[d] = from_centre[d];
         mark.wall_scalar = grain.radius;
       }
-    }
-  }
+    });
 }
 
 // The axes along which an image's field wraps: the cell's periodic ones
