@@ -431,9 +431,22 @@ TEST(Ladder, TheSummaryWarnsOfEachUnsteadyStage) {
       << unsteady[1];
   EXPECT_FALSE(report.steady);
 
+  // Without a steady test a ladder still extrapolates from its levels, so
+  // they are named all the same, with what ends a level when it is steady;
+  // a single level without one is not (no steady k was sought).
   RunReport without_test;
   summarise_stages(records, 2, 2, false, without_test);
-  for (const auto& w : without_test.warnings) EXPECT_EQ(w.find("k was not steady"), std::string::npos) << w;
+  std::vector<std::string> named;
+  for (const auto& w : without_test.warnings)
+    if (w.find("k was not steady") != std::string::npos) named.push_back(w);
+  ASSERT_EQ(named.size(), 2u);
+  EXPECT_NE(named[0].find("takes each level's k as steady, and Permeability/Steady Tolerance ends each level"),
+            std::string::npos)
+      << named[0];
+  const std::vector<StageRecord> one_level = {record(0, 0, false, false, 0.02, 0.005)};
+  RunReport single;
+  summarise_stages(one_level, 2, 1, false, single);
+  for (const auto& w : single.warnings) EXPECT_EQ(w.find("k was not steady"), std::string::npos) << w;
 }
 
 // Darcy's k is the creeping-flow limit: a run whose Reynolds number passes

@@ -101,7 +101,9 @@ std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, c
 
 // A stage that sought a steady k and ended without one (Run/End Time or
 // Run/Max Steps came first): its k is not the answer yet, and says so.
-std::string unsteady_warning(const StageRecord& r, int levels, bool tensor) {
+// A ladder extrapolates from its levels' k whether or not a steady k was
+// sought (Permeability/Steady Tolerance), so there the warning comes either way.
+std::string unsteady_warning(const StageRecord& r, int levels, bool tensor, bool steady_sought) {
   const std::string which = stage_name(r, levels, tensor);
   char text[300];
   if (std::isfinite(r.relative_change) && std::isfinite(r.remaining_change))
@@ -114,6 +116,9 @@ std::string unsteady_warning(const StageRecord& r, int levels, bool tensor) {
                   "k was not steady when %s ended (step %lld), too early to say how far it still has to go; "
                   "raise Run/End Time or Run/Max Steps",
                   which.c_str(), r.steps);
+  if (!steady_sought)
+    return text + std::string(": the extrapolation over the levels takes each level's k as steady, and "
+                              "Permeability/Steady Tolerance ends each level when it is");
   return text;
 }
 
@@ -158,7 +163,8 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     if (!r.has_permeability) continue;
     any = true;
     steady = steady && r.steady;
-    if (steady_sought && !r.steady && !r.steady_solve) report.warnings.push_back(unsteady_warning(r, levels, tensor));
+    if ((steady_sought || levels > 1) && !r.steady && !r.steady_solve)
+      report.warnings.push_back(unsteady_warning(r, levels, tensor, steady_sought));
     report.steady_relative_change = std::max(report.steady_relative_change, r.relative_change);
     report.steady_remaining_change = std::max(report.steady_remaining_change, r.remaining_change);
   }
