@@ -1687,6 +1687,37 @@ def class_21_results_as_asked():
            else [f"exit status {status}, or no warning"], output)
 
 
+def class_22_numbers_that_hold():
+    """A number is given only where it carries more than round-off, and an error bar only with what it rests on:
+    a body force too small for the density to hold is refused or warned of, and a ladder's unsteady levels are
+    named even without a steady tolerance."""
+    square = os.path.join(INPUT, "square_array", "square_array_c20.xml")
+    coarse = "Discretization/Particle Spacing=0.002"
+    tiny = fresh("tiny-force")
+    # At this spacing c = 0.001 m/s and L = 0.1 m: |F| L / c^2 = 1e5 |F|.
+    case("a body force of 1e-30 m/s^2 (density differences of 1e-25): refused, nothing written",
+         [square, "--output", tiny] + sets(coarse, "Fluid/Body Force={1e-30, 0}"), 2,
+         r"holds density differences of about \|F\| L / c\^2 = 1e-25 of the fluid's density.*"
+         r"round-off more than flow.*Fluid/Body Force of 1e-15 m/s\^2 or more", absent(tiny))
+    ks = {}
+    for force in ["1e-16", "1e-8"]:
+        out = fresh(f"force-{force}")
+        case(f"a body force of {force} m/s^2, marched", [square, "--output", out] +
+             sets(coarse, f"Fluid/Body Force={{{force}, 0}}", "Run/Max Steps=50"), 0, r"summary in",
+             lambda o=out, f=force: ks.__setitem__(f, summary(o)) or "")
+    warned = [w for w in ks.get("1e-16", {}).get("warnings", []) if "holds density differences" in w]
+    report("... at 1e-16 (differences of 1e-11) the round-off is warned of, at 1e-8 not",
+           [] if len(ks) == 2 and warned and "round-off error of about 5e-05" in warned[0] and
+           not any("holds density differences" in w for w in ks["1e-8"]["warnings"]) else [f"warnings {warned}"])
+    ladder = fresh("unsteady-ladder")
+    case("a ladder whose levels end unsteady, without a steady tolerance: each level named",
+         [square, "--output", ladder] + sets(coarse, "Convergence/Levels=3", "Run/Max Steps=300",
+                                             "Permeability/Steady Tolerance=0"), 0,
+         r"k was not steady when level 3 of 3 ended .*takes each level's k as steady",
+         lambda: "" if sum("takes each level's k as steady" in w for w in summary(ladder)["warnings"]) == 3
+         else "not three warnings in summary.json")
+
+
 CLASSES = {"1": class_1_counts, "2": class_2_xml, "3": class_3_grains, "4": class_4_restart,
            "5": class_5_output_directories, "6": class_6_results_kept,
            "7": class_7_messages, "8": class_8_setup_time,
@@ -1694,7 +1725,7 @@ CLASSES = {"1": class_1_counts, "2": class_2_xml, "3": class_3_grains, "4": clas
            "12": class_12_restart_no_step_left, "13": class_13_signals, "14": class_14_continued_runs,
            "15": class_15_scene_requests, "16": class_16_messages, "17": class_17_names_and_encodings,
            "18": class_18_image_sizes, "19": class_19_paths, "20": class_20_durability,
-           "21": class_21_results_as_asked}
+           "21": class_21_results_as_asked, "22": class_22_numbers_that_hold}
 os.makedirs(WORK, exist_ok=True)
 os.chdir(WORK)  # a default output directory (poresph-NAME) lands here, never in the source tree
 CLASSES[CLASS]()
