@@ -489,6 +489,21 @@ TEST(Ladder, FastFlowsAreNamedInTheWarnings) {
   EXPECT_EQ(warnings_of({record(5e-4, false, true, false)}, scales, convection), 0);
   EXPECT_EQ(warnings_of({record(2e-3, false, true, true)}, scales, convection), 0);
   EXPECT_EQ(warnings_of({record(2e-3, false, true, false)}, creeping, convection), 0);
+
+  // A tensor: the Reynolds number is the fastest axis's, whichever comes
+  // first (a medium's orientation must not change it), and so is the warning.
+  auto along = [&](int axis, double speed) {
+    StageRecord r = record(speed, false, false, true);
+    r.axis = axis, r.u[0] = 0, r.u[axis] = speed;
+    return r;
+  };
+  for (const auto& order : {std::vector<StageRecord>{along(0, 2e-5), along(1, 1e-4)},
+                            std::vector<StageRecord>{along(1, 1e-4), along(0, 2e-5)}}) {
+    RunReport report;
+    summarise_stages(order, 2, 1, false, report, scales);
+    EXPECT_NEAR(report.reynolds_number, 4.0, 1e-12);
+    EXPECT_EQ(warnings_of(order, scales, inertia), 1);
+  }
 }
 
 // The Darcy check compares two steady k; where either march had not come to

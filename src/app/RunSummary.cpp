@@ -170,18 +170,21 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
   }
   report.steady = any && steady;
   // The finest tensor, and the superficial velocity of its first column.
+  // The Reynolds number is the fastest finest stage's: a tensor's axes
+  // drive the same force through the medium each way, and the flow that
+  // inertia bends most is the fastest of them.
+  double fastest = 0;
   for (const auto& r : records) {
     if (!r.has_permeability || r.half_force || r.level != levels - 1 || r.axis < 0) continue;
     if (!report.has_permeability)
       for (int i = 0; i < dim; ++i) report.superficial_velocity[i] = r.u[i];
     report.has_permeability = report.driven[r.axis] = true;
     for (int i = 0; i < dim; ++i) report.permeability[i][r.axis] = r.k[i];
-  }
-  if (report.has_permeability && scales.reynolds_scale > 0) {
     double speed = 0;
-    for (int i = 0; i < dim; ++i) speed += report.superficial_velocity[i] * report.superficial_velocity[i];
-    report.reynolds_number = std::sqrt(speed) * scales.reynolds_scale;
+    for (int i = 0; i < dim; ++i) speed += r.u[i] * r.u[i];
+    fastest = std::max(fastest, std::sqrt(speed));
   }
+  if (report.has_permeability && scales.reynolds_scale > 0) report.reynolds_number = fastest * scales.reynolds_scale;
   // Darcy's k is the creeping-flow limit; a run with the Darcy check
   // measures how far inertia moved k and warns by that measure instead.
   const bool linearity_checked =
