@@ -92,7 +92,7 @@ class PairSums {
   // Inside a kernel: acquire a copy per particle visited, add, release.
   KOKKOS_INLINE_FUNCTION int acquire() const { return token_.acquire(); }
   KOKKOS_INLINE_FUNCTION void release(int copy) const { token_.release(copy); }
-  KOKKOS_INLINE_FUNCTION void add(int copy, int i, int component, double value) const {
+  KOKKOS_FORCEINLINE_FUNCTION void add(int copy, int i, int component, double value) const {
     at(copy, i, component) += value;
   }
 
