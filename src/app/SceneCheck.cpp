@@ -130,7 +130,6 @@ void check_density_resolution(SceneConfig& scene, const DerivedParameters& deriv
   const double variation = force * length / (c * c);
   constexpr double kRefused = 1e-13, kWarned = 1e-10;
   if (variation >= kWarned) return;
-  const double least_force = kWarned * c * c / length;
   std::ostringstream msg;
   msg.precision(3);
   msg << "Fluid/Body Force of " << force << " m/s^2 holds density differences of about |F| L / c^2 = " << variation
@@ -141,9 +140,38 @@ void check_density_resolution(SceneConfig& scene, const DerivedParameters& deriv
     msg << "k would be round-off more than flow. ";
   else
     msg << "k carries a round-off error of about " << error << " of itself. ";
-  msg << "Creeping-flow k does not depend on the force: "
-      << "a Fluid/Body Force of " << least_force << " m/s^2 or more"
-      << (scene.sound_speed > 0 ? " (or a smaller Fluid/Sound Speed)" : "") << " keeps it below 5e-6";
+  if (scene.sound_speed > 0) {
+    msg << "A Fluid/Sound Speed of " << std::sqrt(force * length / kWarned) << " m/s or less keeps it below 5e-6";
+  } else {
+    // Where c is raised to the viscous limit (fixed particles) a larger
+    // force helps; where c follows the flow's speed, F L^2 / (8 nu), a larger
+    // force gives a faster flow and smaller differences, and the way out is
+    // a slower one. The nearest power of ten of the force that does it is
+    // found by the same rule the run will use.
+    double advised = 0;
+    for (int decade = 1; decade <= 40 && advised == 0; ++decade)
+      for (const double factor : {std::pow(10.0, decade), std::pow(10.0, -decade)}) {
+        SceneConfig trial = scene;
+        for (int d = 0; d < scene.dimension; ++d) trial.body_force[d] *= factor;
+        try {
+          const DerivedParameters p = derive_parameters(trial);
+          if (force * factor * p.length_scale / (p.sound_speed * p.sound_speed) >= kWarned) {
+            advised = factor;
+            break;
+          }
+        } catch (const std::invalid_argument&) {
+        }
+      }
+    if (advised > 1)
+      msg << "Creeping-flow k does not depend on the force: a Fluid/Body Force of " << force * advised
+          << " m/s^2 keeps it below 5e-6";
+    else if (advised > 0)
+      msg << "The speed of sound follows the flow's speed here (F L^2 / (8 nu) = " << derived.velocity_scale
+          << " m/s, a fast flow), so a smaller force holds larger differences: a Fluid/Body Force of "
+          << force * advised << " m/s^2 keeps it below 5e-6";
+    else
+      msg << "Fluid/Sound Speed or Fluid/Velocity Scale, given, sets c for the flow";
+  }
   if (variation < kRefused) refuse(msg.str());
   scene.warnings.push_back(msg.str());
 }

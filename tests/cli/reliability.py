@@ -1698,7 +1698,19 @@ def class_22_numbers_that_hold():
     case("a body force of 1e-30 m/s^2 (density differences of 1e-25): refused, nothing written",
          [square, "--output", tiny] + sets(coarse, "Fluid/Body Force={1e-30, 0}"), 2,
          r"holds density differences of about \|F\| L / c\^2 = 1e-25 of the fluid's density.*"
-         r"round-off more than flow.*Fluid/Body Force of 1e-15 m/s\^2 or more", absent(tiny))
+         r"round-off more than flow.*a Fluid/Body Force of 1e-1[45] m/s\^2 keeps it below 5e-6", absent(tiny))
+    # The same cell 1e4 times larger: c follows the flow's speed F L^2 / (8 nu), a larger force would make the
+    # differences smaller, and the advice is a smaller force.
+    large = fresh("large-cell")
+    case("a cell of 1000 m at the scene's force (a fast flow): refused, the advice a smaller force",
+         [square, "--output", large] + sets("Domain/Cell Size={1000, 1000}", "Grains/Inline={500, 500, 252.313252202016}",
+                                            "Discretization/Particle Spacing=20"), 2,
+         r"The speed of sound follows the flow's speed here .* so a smaller force holds larger differences: "
+         r"a Fluid/Body Force of [0-9.e-]+ m/s\^2 keeps it", absent(large))
+    short_kernel = fresh("short-kernel")
+    case("a smoothing length of 0.8 spacings (k 1.1 % high, 167 % at 0.5): refused",
+         [square, "--output", short_kernel] + sets(coarse, "Discretization/Smoothing Length Ratio=0.8"), 2,
+         r"Smoothing Length Ratio", absent(short_kernel))
     ks = {}
     for force in ["1e-16", "1e-8"]:
         out = fresh(f"force-{force}")
