@@ -506,6 +506,27 @@ TEST(Ladder, FastFlowsAreNamedInTheWarnings) {
   }
 }
 
+// A march stops where the density leaves Checks/Density Variation Limit; a
+// steady solve's state beyond it is warned of (a given c of 1e-4 m/s on the
+// square array solved to a variation of 0.137 with exit status 0).
+TEST(Ladder, ASolveBeyondTheDensityLimitWarns) {
+  StageRecord r;
+  r.axis = 0, r.has_permeability = true, r.steady = true, r.k[0] = 1e-9;
+  r.steady_solve = true, r.solver_converged = true;
+  SummaryScales scales;
+  scales.density_variation_limit = 0.1;
+  for (const double variation : {0.137, 0.05}) {
+    RunReport report;
+    report.max_density_variation = variation;
+    summarise_stages({r}, 2, 1, false, report, scales);
+    int warned = 0;
+    for (const auto& w : report.warnings)
+      warned += w.find("density varies by 0.137 of rho0, beyond Checks/Density Variation Limit = 0.1") !=
+                std::string::npos;
+    EXPECT_EQ(warned, variation > 0.1 ? 1 : 0) << variation;
+  }
+}
+
 // The Darcy check compares two steady k; where either march had not come to
 // one, a change at half the force is no measure of inertia, and the warning
 // says which k was not steady instead of blaming the flow's regime.

@@ -101,6 +101,7 @@ RunReport run(const SceneConfig& scene, const RunOptions& options) {
   scales.max_inner_iterations = scene.solver.max_inner_iterations;
   scales.raised_inner_iterations = scene.solver.raised_inner_iterations;
   scales.solver_tolerance = scene.solver.tolerance;
+  scales.density_variation_limit = scene.density_variation_limit;
   auto write_summary = [&]() {
     report.particle_steps_per_second =
         report.wall_seconds > 0

@@ -153,6 +153,19 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     if (!r.solver_converged)
       report.warnings.push_back(unconverged_warning(r, levels, tensor_records(records), scales, &r == &records.back()));
   }
+  // The march stops where a fluid particle's density leaves the limit (exit
+  // status 3); a solve has no steps to stop, and its state is judged here.
+  if (report.solver.method == "steady" && scales.density_variation_limit > 0 &&
+      report.max_density_variation > scales.density_variation_limit) {
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "the solved state's density varies by %.3g of rho0, beyond Checks/Density Variation Limit = "
+                  "%.3g, at which a march stops: its fields compress the fluid more than the run is checked "
+                  "for (k, of a flow the density hardly changes, may hold still); a larger Fluid/Sound Speed, "
+                  "or the run's own, keeps them within",
+                  report.max_density_variation, scales.density_variation_limit);
+    report.warnings.push_back(text);
+  }
   // The run's verdict, not only its last stage's: a restart that solved the
   // last stage leaves an earlier stage's unconverged solve as it was.
   if (report.solver.method == "steady" && !report.solver.converged && report.stopped_by == "steady_state")

@@ -28,6 +28,9 @@ struct SummaryScales {
   // says that k had not settled.
   int max_inner_iterations = 0, raised_inner_iterations = 0;
   double solver_tolerance = 0;
+  // Checks/Density Variation Limit (0: not known), at which the march stops
+  // and beyond which a steady solve's state is warned of.
+  double density_variation_limit = 0;
 };
 
 // Into `report` (which holds the rest of the run's measures): dim, the
