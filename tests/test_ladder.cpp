@@ -443,6 +443,16 @@ TEST(Ladder, TheSummaryWarnsOfEachUnsteadyStage) {
   EXPECT_NE(named[0].find("takes each level's k as steady, and Permeability/Steady Tolerance ends each level"),
             std::string::npos)
       << named[0];
+  // What ended the run says what to do: more time only where time ran out.
+  for (const auto& [stopped_by, remedy] : {std::pair<std::string, std::string>{"failure", "the run failed first"},
+                                           {"signal", "--restart from its checkpoint continues it"},
+                                           {"max_steps", "raise Run/End Time or Run/Max Steps"}}) {
+    RunReport ended;
+    ended.stopped_by = stopped_by;
+    summarise_stages({record(0, 0, false, false, 0.02, 0.005)}, 2, 1, true, ended);
+    ASSERT_EQ(ended.warnings.size(), 1u) << stopped_by;
+    EXPECT_NE(ended.warnings[0].find(remedy), std::string::npos) << ended.warnings[0];
+  }
   const std::vector<StageRecord> one_level = {record(0, 0, false, false, 0.02, 0.005)};
   RunReport single;
   summarise_stages(one_level, 2, 1, false, single);

@@ -103,19 +103,24 @@ std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, c
 // Run/Max Steps came first): its k is not the answer yet, and says so.
 // A ladder extrapolates from its levels' k whether or not a steady k was
 // sought (Permeability/Steady Tolerance), so there the warning comes either way.
-std::string unsteady_warning(const StageRecord& r, int levels, bool tensor, bool steady_sought) {
+// stopped_by: what ended the run, for the stage that ended it (else empty):
+// more time is the remedy only where time ran out.
+std::string unsteady_warning(const StageRecord& r, int levels, bool tensor, bool steady_sought,
+                             const std::string& stopped_by) {
   const std::string which = stage_name(r, levels, tensor);
+  const char* remedy = stopped_by == "failure" ? "the run failed first (its failure says why)"
+                       : stopped_by == "signal" ? "--restart from its checkpoint continues it"
+                                                : "raise Run/End Time or Run/Max Steps";
   char text[300];
   if (std::isfinite(r.relative_change) && std::isfinite(r.remaining_change))
     std::snprintf(text, sizeof text,
                   "k was not steady when %s ended (step %lld): it moved by %.2g %% over its last span and may "
-                  "move by %.2g %% more; raise Run/End Time or Run/Max Steps",
-                  which.c_str(), r.steps, 100 * r.relative_change, 100 * r.remaining_change);
+                  "move by %.2g %% more; %s",
+                  which.c_str(), r.steps, 100 * r.relative_change, 100 * r.remaining_change, remedy);
   else
     std::snprintf(text, sizeof text,
-                  "k was not steady when %s ended (step %lld), too early to say how far it still has to go; "
-                  "raise Run/End Time or Run/Max Steps",
-                  which.c_str(), r.steps);
+                  "k was not steady when %s ended (step %lld), too early to say how far it still has to go; %s",
+                  which.c_str(), r.steps, remedy);
   if (!steady_sought)
     return text + std::string(": the extrapolation over the levels takes each level's k as steady, and "
                               "Permeability/Steady Tolerance ends each level when it is");
@@ -177,7 +182,8 @@ void summarise_stages(const std::vector<StageRecord>& records, int dim, int leve
     any = true;
     steady = steady && r.steady;
     if ((steady_sought || levels > 1) && !r.steady && !r.steady_solve)
-      report.warnings.push_back(unsteady_warning(r, levels, tensor, steady_sought));
+      report.warnings.push_back(
+          unsteady_warning(r, levels, tensor, steady_sought, &r == &records.back() ? report.stopped_by : ""));
     report.steady_relative_change = std::max(report.steady_relative_change, r.relative_change);
     report.steady_remaining_change = std::max(report.steady_remaining_change, r.remaining_change);
   }
