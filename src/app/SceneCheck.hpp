@@ -17,7 +17,7 @@ namespace poresph {
 // What a run of the scene will need, estimated before anything is allocated.
 struct RunEstimate {
   DerivedParameters derived{};
-  long long steps = 0;           // to Run/End Time, or Run/Max Steps if that comes first
+  long long steps = 0;           // to Run/End Time, or Run/Max Steps if that comes first (0 for a steady solve)
   long long lattice_points = 0;  // of the whole lattice, wall layers included
   // At most this many particles: every lattice point (the interiors of grains
   // deeper than their boundary shell are dropped later).

@@ -148,7 +148,8 @@ class StageLoop {
     if (stage_.levels > 1) label += "[level " + std::to_string(stage_.level + 1) + "/" + std::to_string(stage_.levels) + "] ";
     if (stage_.drive_axis >= 0) label += std::string("[F along ") + "xyz"[stage_.drive_axis] + "] ";
     if (stage_.half_force) label += "[F / 2] ";
-    last_step_ = poresph::last_step(scene.end_time, dt, scene.max_steps);
+    // The march's last step; a steady solve makes no steps (Run/End Time and Max Steps are not its).
+    last_step_ = scene.steady_solver ? 0 : poresph::last_step(scene.end_time, dt, scene.max_steps);
     const StageSetting<Sim> setting{sim,
                                     scene,
                                     dir,

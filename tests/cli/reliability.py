@@ -1721,6 +1721,14 @@ def class_22_numbers_that_hold():
     report("... at 1e-16 (differences of 1e-11) the round-off is warned of, at 1e-8 not",
            [] if len(ks) == 2 and warned and "round-off error of about 5e-05" in warned[0] and
            not any("holds density differences" in w for w in ks["1e-8"]["warnings"]) else [f"warnings {warned}"])
+    # Run/End Time and Run/Max Steps are the march's: a steady solve is not refused or warned by them.
+    for end_time, what in [("1e300", "beyond 2^62 steps"), ("1e-30", "below half a step")]:
+        solved = fresh(f"solve-end-{end_time}")
+        case(f"a steady solve with Run/End Time {what}: neither refused nor warned of it",
+             [square, "--output", solved] + sets(coarse, "Solver/Method=steady", f"Run/End Time={end_time}"), 0,
+             r"steady solve converged",
+             lambda o=solved: "" if not any("Run/End Time" in w for w in summary(o)["warnings"])
+             else f"warnings {summary(o)['warnings']}")
     ladder = fresh("unsteady-ladder")
     case("a ladder whose levels end unsteady, without a steady tolerance: each level named",
          [square, "--output", ladder] + sets(coarse, "Convergence/Levels=3", "Run/Max Steps=300",
