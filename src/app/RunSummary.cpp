@@ -99,12 +99,12 @@ std::string unconverged_warning(const StageRecord& r, int levels, bool tensor, c
   return text;
 }
 
-// A stage that sought a steady k and ended without one (Run/End Time or
-// Run/Max Steps came first): its k is not the answer yet, and says so.
-// A ladder extrapolates from its levels' k whether or not a steady k was
-// sought (Permeability/Steady Tolerance), so there the warning comes either way.
-// stopped_by: what ended the run, for the stage that ended it (else empty):
-// more time is the remedy only where time ran out.
+// A stage that ended without a steady k: its k is not the answer yet, and
+// says so. It is warned of where a steady k was sought (Permeability/Steady
+// Tolerance), and in a ladder either way, since the extrapolation over the
+// levels takes each level's k as steady. stopped_by: what ended the run, for
+// the stage that ended it (else empty); more time is the remedy only where
+// time ran out.
 std::string unsteady_warning(const StageRecord& r, int levels, bool tensor, bool steady_sought,
                              const std::string& stopped_by) {
   const std::string which = stage_name(r, levels, tensor);

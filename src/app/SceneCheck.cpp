@@ -122,9 +122,7 @@ long long checked_product(const std::vector<long long>& counts, const std::strin
 // k = -1.5e4 m^2 as steady. The estimate uses the cell's largest side, so
 // a medium of many pores, whose variations are smaller, is judged leniently.
 void check_density_resolution(SceneConfig& scene, const DerivedParameters& derived) {
-  double force = 0;
-  for (int d = 0; d < scene.dimension; ++d) force += scene.body_force[d] * scene.body_force[d];
-  force = std::sqrt(force) * scene.largest_force_factor();
+  const double force = body_force_magnitude(scene) * scene.largest_force_factor();
   const double c = derived.sound_speed, length = derived.length_scale;
   if (!(force > 0) || !(c > 0) || !(length > 0)) return;
   const double variation = force * length / (c * c);
